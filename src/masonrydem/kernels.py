@@ -1,0 +1,625 @@
+"""Hot kernels: every jitted function of the solver lives here.
+
+numba's on-disk cache does not notice edits in *other* modules that a jitted
+function calls (numba issue 1833), so the constitutive laws and the time-step
+kernels are kept together in this one module.
+
+Conventions
+-----------
+* SI units, tension positive for zone stresses and joint normal stresses.
+* Zone stress components are stored as (xx, yy, zz, xy, yz, zx).
+* Constitutive laws are small inlined functions behind one signature per kind
+  (zone law, joint law).  The kernels are specialised on a *literal* law id
+  (``numba.literally``), so a model compiles and runs only the laws it uses,
+  and the on-disk cache keeps one entry per law actually used.
+
+Zone law ids:   ZONE_ELASTIC, ZONE_MOHR_COULOMB
+Joint law ids:  JOINT_ELASTIC, JOINT_BRITTLE_COULOMB, JOINT_COUPLED, JOINT_BEARING
+"""
+import math
+
+import numpy as np
+from numba import literally, njit
+
+ZONE_ELASTIC = 0
+ZONE_MOHR_COULOMB = 1
+
+JOINT_ELASTIC = 0
+JOINT_BRITTLE_COULOMB = 1
+JOINT_COUPLED = 2
+JOINT_BEARING = 3
+
+# --- zone material parameter / state columns -------------------------------
+# zone params (per tetrahedron)
+ZP_K, ZP_G, ZP_FT, ZP_C, ZP_NPHI, ZP_GF = 0, 1, 2, 3, 4, 5
+N_ZP = 6
+# zone state (per tetrahedron)
+ZS_EPT, ZS_EULT, ZS_H = 0, 1, 2  # plastic tensile strain, ultimate, crack band
+N_ZS = 3
+
+# --- joint parameter / state columns ----------------------------------------
+JP_KN, JP_KS, JP_FT, JP_C, JP_TANPHI, JP_WU, JP_SU = 0, 1, 2, 3, 4, 5, 6
+N_JP = 7
+JS_SN, JS_T1, JS_T2, JS_WP, JS_SP, JS_D = 0, 1, 2, 3, 4, 5
+N_JS = 6
+
+# status codes returned by the chunk kernel
+ST_OK = 0
+ST_NONFINITE = 1
+
+_CACHE = dict(cache=True, nogil=True, error_model="numpy")
+_INLINE = dict(cache=True, inline="always", error_model="numpy")
+
+
+# =============================================================================
+# Small linear algebra
+# =============================================================================
+@njit(**_INLINE)
+def _rotate(a, v, p, q):
+    """One Jacobi rotation zeroing a[p, q] of the symmetric 3x3 ``a``;
+    accumulates the rotation into the eigenvector matrix ``v`` (columns)."""
+    apq = a[p, q]
+    if apq == 0.0:
+        return
+    theta = (a[q, q] - a[p, p]) / (2.0 * apq)
+    t = 1.0 / (abs(theta) + math.sqrt(theta * theta + 1.0))
+    if theta < 0.0:
+        t = -t
+    c = 1.0 / math.sqrt(t * t + 1.0)
+    s = t * c
+    for k in range(3):
+        akp = a[k, p]
+        akq = a[k, q]
+        a[k, p] = c * akp - s * akq
+        a[k, q] = s * akp + c * akq
+    for k in range(3):
+        apk = a[p, k]
+        aqk = a[q, k]
+        a[p, k] = c * apk - s * aqk
+        a[q, k] = s * apk + c * aqk
+    for k in range(3):
+        vkp = v[k, p]
+        vkq = v[k, q]
+        v[k, p] = c * vkp - s * vkq
+        v[k, q] = s * vkp + c * vkq
+
+
+@njit(**_INLINE)
+def eig_sym3(s0, s1, s2, s3, s4, s5, a, v):
+    """Eigen-decomposition of the symmetric tensor (xx,yy,zz,xy,yz,zx) by
+    cyclic Jacobi rotations (Golub & Van Loan, sec. 8.5).  On return the
+    diagonal of ``a`` holds the eigenvalues and the columns of ``v`` the unit
+    eigenvectors.  ``a`` and ``v`` are 3x3 scratch arrays."""
+    a[0, 0] = s0
+    a[1, 1] = s1
+    a[2, 2] = s2
+    a[0, 1] = s3
+    a[1, 0] = s3
+    a[1, 2] = s4
+    a[2, 1] = s4
+    a[0, 2] = s5
+    a[2, 0] = s5
+    for i in range(3):
+        for j in range(3):
+            v[i, j] = 1.0 if i == j else 0.0
+    scale = abs(s0) + abs(s1) + abs(s2) + abs(s3) + abs(s4) + abs(s5)
+    if scale == 0.0:
+        return
+    for _sweep in range(12):
+        off = abs(a[0, 1]) + abs(a[1, 2]) + abs(a[0, 2])
+        if off <= 1e-15 * scale:
+            break
+        _rotate(a, v, 0, 1)
+        _rotate(a, v, 1, 2)
+        _rotate(a, v, 0, 2)
+
+
+# =============================================================================
+# Zone (block material) laws
+#
+# Every zone first takes the elastic trial (zone_elastic); a plastic law then
+# corrects stress[t] in place and updates its state zs[t].
+# =============================================================================
+@njit(**_INLINE)
+def zone_elastic(t, d0, d1, d2, d3, d4, d5, zp, stress):
+    """Isotropic linear elasticity, incremental form:
+    dsigma = 2 G de + (K - 2G/3) tr(de) I."""
+    g2 = 2.0 * zp[t, ZP_G]
+    lam = zp[t, ZP_K] - g2 / 3.0
+    ev = d0 + d1 + d2
+    stress[t, 0] += g2 * d0 + lam * ev
+    stress[t, 1] += g2 * d1 + lam * ev
+    stress[t, 2] += g2 * d2 + lam * ev
+    stress[t, 3] += g2 * d3
+    stress[t, 4] += g2 * d4
+    stress[t, 5] += g2 * d5
+
+
+@njit(**_INLINE)
+def tensile_strength(ft, ept, eult):
+    """Linear tension softening: sigma_t = f_t (1 - e_pt / e_ult), >= 0;
+    e_ult = 2 G_f / (f_t h) (crack band, Bazant & Oh 1983)."""
+    if eult <= 0.0:
+        return ft
+    r = 1.0 - ept / eult
+    return ft * r if r > 0.0 else 0.0
+
+
+@njit(**_INLINE)
+def zone_mohr_coulomb(t, zp, zs, stress, a, v, x0, gnodes, k0, k1):
+    """Mohr-Coulomb with tension cut-off on the elastic trial ``stress[t]``
+    (Itasca FLAC3D formulation, principal stresses s1 <= s2 <= s3, tension
+    positive):
+
+        f_s = s1 - s3 N_phi + 2 c sqrt(N_phi)      (shear failure if < 0)
+        f_t = sigma_t - s3                         (tension failure if < 0)
+
+    Shear: perfectly plastic, non-associated with zero dilation (N_psi = 1):
+        lambda = f_s / (2G (1 + N_phi)),  s1 -= 2G lambda,  s3 += 2G lambda.
+    Tension: associated, lambda = (s3 - sigma_t)/alpha1, s3 = sigma_t,
+        s1, s2 -= lambda alpha2, plastic tensile strain e_pt += lambda; the
+        tensile strength softens linearly to zero at
+        e_ult = 2 G_f / (f_t h), with h the width of the zone's cell (its
+        mixed-discretization overlay, i.e. the hexahedral cell, or the
+        tetrahedron itself) measured along the crack normal (the s3
+        direction) when the zone first cracks.
+    The region is chosen with FLAC's h-function
+        h = s3 - sigma_t + alpha_P (s1 - sigma_P),
+        alpha_P = sqrt(1 + N_phi^2) + N_phi, sigma_P = sigma_t N_phi - 2c sqrt(N_phi).
+    Returns True if the zone yielded in tension this step."""
+    s0 = stress[t, 0]
+    s1_ = stress[t, 1]
+    s2_ = stress[t, 2]
+    s3_ = stress[t, 3]
+    s4_ = stress[t, 4]
+    s5_ = stress[t, 5]
+    c = zp[t, ZP_C]
+    nphi = zp[t, ZP_NPHI]
+    sqn = math.sqrt(nphi)
+    sig_t = tensile_strength(zp[t, ZP_FT], zs[t, ZS_EPT], zs[t, ZS_EULT])
+    # Cheap elastic pre-check with bounds on the extreme principal stresses:
+    # for the deviator, |s_i| <= 2 sqrt(J2/3), so
+    # s3 <= p + 2 sqrt(J2/3) and s1 >= p - 2 sqrt(J2/3).
+    p = (s0 + s1_ + s2_) / 3.0
+    dx = s0 - p
+    dy = s1_ - p
+    dz = s2_ - p
+    j2 = 0.5 * (dx * dx + dy * dy + dz * dz) + s3_ * s3_ + s4_ * s4_ + s5_ * s5_
+    r = 2.0 * math.sqrt(j2 / 3.0)
+    if p + r <= sig_t and (p - r) - (p + r) * nphi + 2.0 * c * sqn >= 0.0:
+        return False
+    eig_sym3(s0, s1_, s2_, s3_, s4_, s5_, a, v)
+    # sort principal values ascending, remembering their columns
+    i1, i2, i3 = 0, 1, 2
+    if a[i1, i1] > a[i2, i2]:
+        i1, i2 = i2, i1
+    if a[i2, i2] > a[i3, i3]:
+        i2, i3 = i3, i2
+    if a[i1, i1] > a[i2, i2]:
+        i1, i2 = i2, i1
+    p1 = a[i1, i1]
+    p2 = a[i2, i2]
+    p3 = a[i3, i3]
+    fs = p1 - p3 * nphi + 2.0 * c * sqn
+    if fs >= 0.0 and p3 <= sig_t:
+        return False
+    kk = zp[t, ZP_K]
+    g = zp[t, ZP_G]
+    alpha1 = kk + 4.0 * g / 3.0
+    alpha2 = kk - 2.0 * g / 3.0
+    alpha_p = math.sqrt(1.0 + nphi * nphi) + nphi
+    sigma_p = sig_t * nphi - 2.0 * c * sqn
+    hf = p3 - sig_t + alpha_p * (p1 - sigma_p)
+    d1 = 0.0
+    d2 = 0.0
+    d3 = 0.0
+    cracked = False
+    if fs < 0.0 and hf <= 0.0:
+        lam = fs / (2.0 * g * (1.0 + nphi))
+        d1 = -2.0 * g * lam
+        d3 = 2.0 * g * lam
+    elif p3 > sig_t:
+        lam = (p3 - sig_t) / alpha1
+        d1 = -lam * alpha2
+        d2 = -lam * alpha2
+        d3 = sig_t - p3
+        if zs[t, ZS_EULT] == 0.0:
+            # crack onset: crack band width of the cell along the s3 direction
+            nx = v[0, i3]
+            ny = v[1, i3]
+            nz = v[2, i3]
+            lo = 1e300
+            hi = -1e300
+            for k in range(k0, k1):
+                nd = gnodes[k]
+                q = x0[nd, 0] * nx + x0[nd, 1] * ny + x0[nd, 2] * nz
+                lo = min(lo, q)
+                hi = max(hi, q)
+            h = hi - lo
+            zs[t, ZS_H] = h
+            zs[t, ZS_EULT] = 2.0 * zp[t, ZP_GF] / (zp[t, ZP_FT] * h)
+        zs[t, ZS_EPT] += lam
+        cracked = True
+    else:
+        return False
+    # stress correction: sum_i d_i n_i n_i^T
+    for (di, col) in ((d1, i1), (d2, i2), (d3, i3)):
+        if di != 0.0:
+            nx = v[0, col]
+            ny = v[1, col]
+            nz = v[2, col]
+            stress[t, 0] += di * nx * nx
+            stress[t, 1] += di * ny * ny
+            stress[t, 2] += di * nz * nz
+            stress[t, 3] += di * nx * ny
+            stress[t, 4] += di * ny * nz
+            stress[t, 5] += di * nz * nx
+    return cracked
+
+
+# =============================================================================
+# Zone kernel: strain rates, mixed discretization, stresses, nodal forces
+# =============================================================================
+@njit(**_CACHE)
+def zone_forces(zlaw, dt, v, f, x0, tets, dn, vol, wt, gptr, gnodes, gnptr,
+                zp, zs, stress, de, ev_, a, evec):
+    """Adds the zones' nodal forces to ``f``.
+
+    For each tetrahedron: grad v = sum_a v_a (x) grad N_a,
+    de = dt/2 (grad v + grad v^T).  Mixed discretization (Marti & Cundall
+    1982): within each group (an overlay of 5 tetrahedra of a hexahedral
+    cell, or a single tetrahedron) the volumetric part of de is replaced by
+    the volume-weighted mean of the group.  Nodal forces
+    f_a -= w V sigma . grad N_a, with w = 1/2 for the two overlays of a cell.
+    ``dn[t]`` holds grad N_1..N_3 (grad N_0 = -sum).
+    """
+    ng = gptr.shape[0] - 1
+    for g in range(ng):
+        t0 = gptr[g]
+        t1 = gptr[g + 1]
+        sv = 0.0
+        sev = 0.0
+        for t in range(t0, t1):
+            n0 = tets[t, 0]
+            n1 = tets[t, 1]
+            n2 = tets[t, 2]
+            n3 = tets[t, 3]
+            # velocity differences relative to node 0
+            ax = v[n1, 0] - v[n0, 0]
+            ay = v[n1, 1] - v[n0, 1]
+            az = v[n1, 2] - v[n0, 2]
+            bx = v[n2, 0] - v[n0, 0]
+            by = v[n2, 1] - v[n0, 1]
+            bz = v[n2, 2] - v[n0, 2]
+            cx = v[n3, 0] - v[n0, 0]
+            cy = v[n3, 1] - v[n0, 1]
+            cz = v[n3, 2] - v[n0, 2]
+            g1x = dn[t, 0]
+            g1y = dn[t, 1]
+            g1z = dn[t, 2]
+            g2x = dn[t, 3]
+            g2y = dn[t, 4]
+            g2z = dn[t, 5]
+            g3x = dn[t, 6]
+            g3y = dn[t, 7]
+            g3z = dn[t, 8]
+            lxx = ax * g1x + bx * g2x + cx * g3x
+            lyy = ay * g1y + by * g2y + cy * g3y
+            lzz = az * g1z + bz * g2z + cz * g3z
+            lxy = ax * g1y + bx * g2y + cx * g3y
+            lyx = ay * g1x + by * g2x + cy * g3x
+            lyz = ay * g1z + by * g2z + cy * g3z
+            lzy = az * g1y + bz * g2y + cz * g3y
+            lzx = az * g1x + bz * g2x + cz * g3x
+            lxz = ax * g1z + bx * g2z + cx * g3z
+            k = t - t0
+            de[k, 0] = dt * lxx
+            de[k, 1] = dt * lyy
+            de[k, 2] = dt * lzz
+            de[k, 3] = 0.5 * dt * (lxy + lyx)
+            de[k, 4] = 0.5 * dt * (lyz + lzy)
+            de[k, 5] = 0.5 * dt * (lzx + lxz)
+            ev = de[k, 0] + de[k, 1] + de[k, 2]
+            ev_[k] = ev
+            sv += vol[t]
+            sev += vol[t] * ev
+        evm = sev / sv
+        for t in range(t0, t1):
+            k = t - t0
+            corr = (evm - ev_[k]) / 3.0
+            zone_elastic(t, de[k, 0] + corr, de[k, 1] + corr, de[k, 2] + corr,
+                         de[k, 3], de[k, 4], de[k, 5], zp, stress)
+            if zlaw == ZONE_MOHR_COULOMB:
+                zone_mohr_coulomb(t, zp, zs, stress, a, evec, x0, gnodes,
+                                  gnptr[g], gnptr[g + 1])
+            w = -wt[t] * vol[t]
+            sxx = w * stress[t, 0]
+            syy = w * stress[t, 1]
+            szz = w * stress[t, 2]
+            sxy = w * stress[t, 3]
+            syz = w * stress[t, 4]
+            szx = w * stress[t, 5]
+            f1x = sxx * dn[t, 0] + sxy * dn[t, 1] + szx * dn[t, 2]
+            f1y = sxy * dn[t, 0] + syy * dn[t, 1] + syz * dn[t, 2]
+            f1z = szx * dn[t, 0] + syz * dn[t, 1] + szz * dn[t, 2]
+            f2x = sxx * dn[t, 3] + sxy * dn[t, 4] + szx * dn[t, 5]
+            f2y = sxy * dn[t, 3] + syy * dn[t, 4] + syz * dn[t, 5]
+            f2z = szx * dn[t, 3] + syz * dn[t, 4] + szz * dn[t, 5]
+            f3x = sxx * dn[t, 6] + sxy * dn[t, 7] + szx * dn[t, 8]
+            f3y = sxy * dn[t, 6] + syy * dn[t, 7] + syz * dn[t, 8]
+            f3z = szx * dn[t, 6] + syz * dn[t, 7] + szz * dn[t, 8]
+            n0 = tets[t, 0]
+            n1 = tets[t, 1]
+            n2 = tets[t, 2]
+            n3 = tets[t, 3]
+            f[n1, 0] += f1x
+            f[n1, 1] += f1y
+            f[n1, 2] += f1z
+            f[n2, 0] += f2x
+            f[n2, 1] += f2y
+            f[n2, 2] += f2z
+            f[n3, 0] += f3x
+            f[n3, 1] += f3y
+            f[n3, 2] += f3z
+            f[n0, 0] -= f1x + f2x + f3x
+            f[n0, 1] -= f1y + f2y + f3y
+            f[n0, 2] -= f1z + f2z + f3z
+
+
+# =============================================================================
+# Joint (contact) laws
+#
+# Signature: law(s, jp, js, dun, dus1, dus2) -> None.  Updates the tractions
+# js[s, JS_SN] (tension positive), js[s, JS_T1], js[s, JS_T2] and the law's
+# state from the relative displacement increments of sub-contact s
+# (du_n opening positive, du_s in the two tangent directions).
+# =============================================================================
+@njit(**_INLINE)
+def joint_elastic(s, jp, js, dun, dus1, dus2):
+    """Linear springs: sigma_n += k_n du_n, tau += k_s du_s."""
+    js[s, JS_SN] += jp[s, JP_KN] * dun
+    js[s, JS_T1] += jp[s, JP_KS] * dus1
+    js[s, JS_T2] += jp[s, JP_KS] * dus2
+
+
+@njit(**_INLINE)
+def joint_bearing(s, jp, js, dun, dus1, dus2):
+    """Rigid bearing strip: compression-only normal spring, frictionless
+    (a roller): sigma_n = min(0, sigma_n + k_n du_n), tau = 0."""
+    sn = js[s, JS_SN] + jp[s, JP_KN] * dun
+    js[s, JS_SN] = sn if sn < 0.0 else 0.0
+
+
+@njit(**_INLINE)
+def _coulomb_return(s, jp, js, dun, dus1, dus2):
+    """Elastic trial, then tension cut-off and Coulomb slip with the current
+    (damaged) strengths f_t' = f_t (1-D), c' = c (1-D):
+      sigma_n > f_t'  ->  sigma_n = f_t', w_p += excess opening;
+      tau_max = max(0, c' - sigma_n tan(phi)); |tau| > tau_max -> scale tau
+      back, s_p += excess slip.
+    Returns True if the joint yielded."""
+    kn = jp[s, JP_KN]
+    ks = jp[s, JP_KS]
+    dmg = js[s, JS_D]
+    sn = js[s, JS_SN] + kn * dun
+    t1 = js[s, JS_T1] + ks * dus1
+    t2 = js[s, JS_T2] + ks * dus2
+    ft = jp[s, JP_FT] * (1.0 - dmg)
+    c = jp[s, JP_C] * (1.0 - dmg)
+    yielded = False
+    if sn > ft:
+        js[s, JS_WP] += (sn - ft) / kn
+        sn = ft
+        yielded = True
+    tmax = c - sn * jp[s, JP_TANPHI]
+    if tmax < 0.0:
+        tmax = 0.0
+    tt = math.sqrt(t1 * t1 + t2 * t2)
+    if tt > tmax:
+        js[s, JS_SP] += (tt - tmax) / ks
+        r = tmax / tt
+        t1 *= r
+        t2 *= r
+        yielded = True
+    js[s, JS_SN] = sn
+    js[s, JS_T1] = t1
+    js[s, JS_T2] = t2
+    return yielded
+
+
+@njit(**_INLINE)
+def joint_coupled(s, jp, js, dun, dus1, dus2):
+    """Coupled fracture-energy softening (solver.md, Joints):
+    d_t = w_p / w_u, w_u = 2 G_I / f_t;  d_s = s_p / s_u, s_u = 2 G_II / c;
+    D = 1 - (1 - d_t)(1 - d_s), never decreasing, at most 1.  Linear
+    softening of f_t and c with a shared damage; friction angle unchanged;
+    unloading elastic with the initial stiffness."""
+    if _coulomb_return(s, jp, js, dun, dus1, dus2):
+        wu = jp[s, JP_WU]
+        su = jp[s, JP_SU]
+        dt_ = 1.0
+        if wu > 0.0:
+            dt_ = min(js[s, JS_WP] / wu, 1.0)
+        elif js[s, JS_WP] == 0.0:
+            dt_ = 0.0
+        ds_ = 1.0
+        if su > 0.0:
+            ds_ = min(js[s, JS_SP] / su, 1.0)
+        elif js[s, JS_SP] == 0.0:
+            ds_ = 0.0
+        d = 1.0 - (1.0 - dt_) * (1.0 - ds_)
+        if d > js[s, JS_D]:
+            js[s, JS_D] = d
+
+
+@njit(**_INLINE)
+def joint_brittle_coulomb(s, jp, js, dun, dus1, dus2):
+    """Brittle Coulomb with tension cut-off: at the first yield in tension
+    or shear, f_t and c drop to zero (D = 1); friction remains."""
+    if _coulomb_return(s, jp, js, dun, dus1, dus2):
+        js[s, JS_D] = 1.0
+
+
+@njit(**_CACHE)
+def contact_forces(jlaw, dt, v, f, nodes, cnt, w, axes, area, jp, js):
+    """Adds the forces of the sub-contacts to ``f``.
+
+    Sub-contact s joins side A (nodes[s, 0:cnt[s,0]]) and side B
+    (nodes[s, 4:4+cnt[s,1]]) at one point, interpolated with the weights
+    w[s]; axes[s] = (n, t1, t2) with n pointing from A to B.  Relative
+    velocity v_B - v_A gives du = dt (v_B - v_A) in local axes; the traction
+    t = sigma_n n + tau_1 t1 + tau_2 t2 acts on A as +area t and on B as
+    -area t, spread with the same weights (so the virtual work is
+    consistent)."""
+    for s in range(area.shape[0]):
+        rx = 0.0
+        ry = 0.0
+        rz = 0.0
+        for k in range(cnt[s, 0]):
+            nd = nodes[s, k]
+            wk = w[s, k]
+            rx -= wk * v[nd, 0]
+            ry -= wk * v[nd, 1]
+            rz -= wk * v[nd, 2]
+        for k in range(4, 4 + cnt[s, 1]):
+            nd = nodes[s, k]
+            wk = w[s, k]
+            rx += wk * v[nd, 0]
+            ry += wk * v[nd, 1]
+            rz += wk * v[nd, 2]
+        nx = axes[s, 0]
+        ny = axes[s, 1]
+        nz = axes[s, 2]
+        ax = axes[s, 3]
+        ay = axes[s, 4]
+        az = axes[s, 5]
+        bx = axes[s, 6]
+        by = axes[s, 7]
+        bz = axes[s, 8]
+        dun = dt * (rx * nx + ry * ny + rz * nz)
+        du1 = dt * (rx * ax + ry * ay + rz * az)
+        du2 = dt * (rx * bx + ry * by + rz * bz)
+        if jlaw == JOINT_ELASTIC:
+            joint_elastic(s, jp, js, dun, du1, du2)
+        elif jlaw == JOINT_BRITTLE_COULOMB:
+            joint_brittle_coulomb(s, jp, js, dun, du1, du2)
+        elif jlaw == JOINT_COUPLED:
+            joint_coupled(s, jp, js, dun, du1, du2)
+        elif jlaw == JOINT_BEARING:
+            joint_bearing(s, jp, js, dun, du1, du2)
+        sn = js[s, JS_SN]
+        s1 = js[s, JS_T1]
+        s2 = js[s, JS_T2]
+        ar = area[s]
+        fx = ar * (sn * nx + s1 * ax + s2 * bx)
+        fy = ar * (sn * ny + s1 * ay + s2 * by)
+        fz = ar * (sn * nz + s1 * az + s2 * bz)
+        for k in range(cnt[s, 0]):
+            nd = nodes[s, k]
+            wk = w[s, k]
+            f[nd, 0] += wk * fx
+            f[nd, 1] += wk * fy
+            f[nd, 2] += wk * fz
+        for k in range(4, 4 + cnt[s, 1]):
+            nd = nodes[s, k]
+            wk = w[s, k]
+            f[nd, 0] -= wk * fx
+            f[nd, 1] -= wk * fy
+            f[nd, 2] -= wk * fz
+
+
+# =============================================================================
+# Time stepping
+# =============================================================================
+@njit(**_CACHE)
+def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, grav,
+              u, v, f, mass, mgrav, fixed, vpres, fext, x0,
+              tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
+              j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
+              b_nodes, b_cnt, b_w, b_axes, b_area, bp, bs,
+              mon_nodes, mon_dir, mon_grp, hist, de, ev_, a, evec):
+    """Advances ``nsteps`` explicit steps (central differences with Cundall's
+    local non-viscous damping, Itasca FLAC3D/3DEC):
+
+        F = F_int + lf F_ext + m_g g
+        v(t+dt/2) = v(t-dt/2) + dt/m (F - alpha |F| sgn(v(t-dt/2))),
+        u(t+dt)   = u(t) + dt v(t+dt/2)                   (per component)
+
+    Constrained components take their prescribed velocity; the force they
+    carry is their reaction.  Per step, ``hist`` receives
+    [unbalanced-force ratio, kinetic energy, then per monitor group the
+    reaction (sum of -F along its direction) and the mean displacement].
+    The ratio is sum |F| over free components / sum of |applied| forces
+    (external, gravity, and reactions of the constrained components).
+    Returns (status, steps done); status ST_NONFINITE stops at the first
+    step whose kinetic energy is not finite."""
+    nn = u.shape[0]
+    ngrp = (hist.shape[1] - 2) // 2
+    for step in range(nsteps):
+        f[:, :] = 0.0
+        if zlaw >= 0:
+            zone_forces(zlaw, dt, v, f, x0, tets, dn, vol, wt, gptr, gnodes,
+                        gnptr, zp, zs, stress, de, ev_, a, evec)
+        if j_area.shape[0] > 0:
+            contact_forces(jlaw, dt, v, f, j_nodes, j_cnt, j_w, j_axes,
+                           j_area, jp, js)
+        if b_area.shape[0] > 0:
+            contact_forces(literally(JOINT_BEARING), dt, v, f, b_nodes, b_cnt,
+                           b_w, b_axes, b_area, bp, bs)
+        unbal = 0.0
+        applied = 0.0
+        ke = 0.0
+        for i in range(nn):
+            m = mass[i]
+            mg = mgrav[i]
+            for d in range(3):
+                fa = lf * fext[i, d] + mg * grav[d]
+                ff = f[i, d] + fa
+                f[i, d] = ff
+                if fixed[i, d]:
+                    vv = vpres[i, d]
+                    applied += abs(ff)
+                else:
+                    vo = v[i, d]
+                    unbal += abs(ff)
+                    applied += abs(fa)
+                    damp = alpha * abs(ff)
+                    if vo > 0.0:
+                        ff -= damp
+                    elif vo < 0.0:
+                        ff += damp
+                    vv = vo + dt * ff / m
+                    ke += 0.5 * m * vv * vv
+                v[i, d] = vv
+                u[i, d] += dt * vv
+        hist[step, 0] = unbal / applied if applied > 0.0 else unbal
+        hist[step, 1] = ke
+        for gi in range(ngrp):
+            hist[step, 2 + 2 * gi] = 0.0
+            hist[step, 3 + 2 * gi] = 0.0
+        for k in range(mon_nodes.shape[0]):
+            gi = mon_grp[k]
+            nd = mon_nodes[k]
+            d = mon_dir[k]
+            hist[step, 2 + 2 * gi] -= f[nd, d]
+            hist[step, 3 + 2 * gi] += u[nd, d]
+        if not math.isfinite(ke) or not math.isfinite(hist[step, 0]):
+            return ST_NONFINITE, step + 1
+    return ST_OK, nsteps
+
+
+@njit(**_CACHE)
+def run_chunk_entry(zlaw, jlaw, nsteps, dt, alpha, lf, grav,
+                    u, v, f, mass, mgrav, fixed, vpres, fext, x0,
+                    tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
+                    j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
+                    b_nodes, b_cnt, b_w, b_axes, b_area, bp, bs,
+                    mon_nodes, mon_dir, mon_grp, hist, de, ev_, a, evec):
+    """Entry point: specialises ``run_chunk`` on the literal law ids, so only
+    the laws a model uses are compiled (and cached)."""
+    return run_chunk(literally(zlaw), literally(jlaw), nsteps, dt, alpha, lf,
+                     grav, u, v, f, mass, mgrav, fixed, vpres, fext, x0,
+                     tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
+                     j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
+                     b_nodes, b_cnt, b_w, b_axes, b_area, bp, bs,
+                     mon_nodes, mon_dir, mon_grp, hist, de, ev_, a, evec)

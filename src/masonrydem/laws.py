@@ -1,0 +1,150 @@
+"""Constitutive laws, Python side: validated parameters -> kernel rows.
+
+The laws themselves are the small jitted functions in ``kernels``; this
+module names them, checks their parameters (refusing bad values with the
+field's name) and packs them into the per-zone / per-sub-contact parameter
+rows the kernels read.
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import kernels as K
+from .errors import InputError
+
+
+def _positive(field, value):
+    if not (isinstance(value, (int, float, np.floating, np.integer))
+            and math.isfinite(value) and value > 0):
+        raise InputError(field, f"must be a positive number, got {value!r}")
+    return float(value)
+
+
+def _non_negative(field, value):
+    if not (isinstance(value, (int, float, np.floating, np.integer))
+            and math.isfinite(value) and value >= 0):
+        raise InputError(field, f"must be a non-negative number, got {value!r}")
+    return float(value)
+
+
+def _angle(field, value):
+    if not (isinstance(value, (int, float, np.floating, np.integer))
+            and 0.0 <= value < 90.0):
+        raise InputError(field, f"must be an angle in degrees in [0, 90), got {value!r}")
+    return float(value)
+
+
+# --- block materials ---------------------------------------------------------
+@dataclass(frozen=True)
+class Elastic:
+    """Isotropic linear elastic block material: Young's modulus E (Pa),
+    Poisson's ratio nu; density (kg/m^3) for dynamics and gravity."""
+    E: float
+    nu: float
+    density: float = 0.0
+    law_id = K.ZONE_ELASTIC
+
+    def validate(self, where):
+        _positive(f"{where}.E", self.E)
+        if not (-1.0 < self.nu < 0.5):
+            raise InputError(f"{where}.nu", f"Poisson's ratio must be in (-1, 0.5), got {self.nu!r}")
+        _non_negative(f"{where}.density", self.density)
+
+    def moduli(self):
+        """Bulk and shear moduli K = E / (3(1-2nu)), G = E / (2(1+nu))."""
+        return self.E / (3.0 * (1.0 - 2.0 * self.nu)), self.E / (2.0 * (1.0 + self.nu))
+
+    def row(self):
+        """Kernel row; infinite strengths, so that an elastic block is also
+        a valid (never yielding) row for the Mohr-Coulomb kernel."""
+        k, g = self.moduli()
+        r = np.zeros(K.N_ZP)
+        r[K.ZP_K], r[K.ZP_G] = k, g
+        r[K.ZP_FT] = r[K.ZP_C] = np.inf
+        r[K.ZP_NPHI] = 1.0
+        return r
+
+
+@dataclass(frozen=True)
+class MohrCoulomb(Elastic):
+    """Elasto-plastic Mohr-Coulomb with tension cut-off and linear tension
+    softening regularised by the crack band (kernels.zone_mohr_coulomb).
+    ft tensile strength (Pa), c cohesion (Pa), phi friction angle (deg),
+    Gf mode-I fracture energy (N/m).  Shear: perfectly plastic, zero
+    dilation."""
+    ft: float = 0.0
+    c: float = 0.0
+    phi: float = 0.0
+    Gf: float = 0.0
+    law_id = K.ZONE_MOHR_COULOMB
+
+    def validate(self, where):
+        super().validate(where)
+        _positive(f"{where}.ft", self.ft)
+        _positive(f"{where}.c", self.c)
+        _angle(f"{where}.phi", self.phi)
+        _positive(f"{where}.Gf", self.Gf)
+
+    def row(self):
+        r = super().row()
+        s = math.sin(math.radians(self.phi))
+        nphi = (1.0 + s) / (1.0 - s)
+        # FLAC: the tensile strength may not exceed the apex c / tan(phi)
+        ft = self.ft if self.phi == 0 else min(self.ft, self.c / math.tan(math.radians(self.phi)))
+        r[K.ZP_FT], r[K.ZP_C], r[K.ZP_NPHI], r[K.ZP_GF] = ft, self.c, nphi, self.Gf
+        return r
+
+
+# --- joint laws --------------------------------------------------------------
+JOINT_LAWS = {
+    "elastic": K.JOINT_ELASTIC,
+    "brittle_coulomb": K.JOINT_BRITTLE_COULOMB,
+    "coupled_softening": K.JOINT_COUPLED,
+}
+
+
+def joint_law_id(name, field="joints.law"):
+    try:
+        return JOINT_LAWS[name]
+    except (KeyError, TypeError):
+        raise InputError(field, f"unknown joint law {name!r}; known: "
+                         f"{', '.join(sorted(JOINT_LAWS))}") from None
+
+
+@dataclass(frozen=True)
+class JointProps:
+    """Zero-thickness joint: stiffnesses kn, ks (Pa/m), tensile strength ft
+    and cohesion c (Pa), friction angle phi (deg), fracture energies GI, GII
+    (N/m).  Laws that need no strength ignore ft, c, GI, GII."""
+    kn: float
+    ks: float
+    ft: float = 0.0
+    c: float = 0.0
+    phi: float = 0.0
+    GI: float = 0.0
+    GII: float = 0.0
+
+    def validate(self, where, law="coupled_softening"):
+        _positive(f"{where}.kn", self.kn)
+        _positive(f"{where}.ks", self.ks)
+        if law == "elastic":
+            return
+        _non_negative(f"{where}.ft", self.ft)
+        _non_negative(f"{where}.c", self.c)
+        _angle(f"{where}.phi", self.phi)
+        if law == "coupled_softening":
+            # a joint with strength needs a positive fracture energy to soften
+            if self.ft > 0:
+                _positive(f"{where}.GI", self.GI)
+            if self.c > 0:
+                _positive(f"{where}.GII", self.GII)
+
+    def row(self):
+        r = np.zeros(K.N_JP)
+        r[K.JP_KN], r[K.JP_KS] = self.kn, self.ks
+        r[K.JP_FT], r[K.JP_C] = self.ft, self.c
+        r[K.JP_TANPHI] = math.tan(math.radians(self.phi))
+        r[K.JP_WU] = 2.0 * self.GI / self.ft if self.ft > 0 else 0.0
+        r[K.JP_SU] = 2.0 * self.GII / self.c if self.c > 0 else 0.0
+        return r

@@ -1,0 +1,254 @@
+"""Explicit time integration of a built model: quasi-static (density
+scaling, local damping) or dynamic (physical masses), histories, stop
+criteria and a divergence guard.
+"""
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import kernels as K
+from .errors import InputError
+
+QUASI_STATIC = "quasi-static"
+DYNAMIC = "dynamic"
+
+
+@dataclass
+class RunResult:
+    """Outcome of ``Solver.run``.
+
+    status: 'converged' (unbalanced-force ratio below tolerance),
+    'displacement_limit', 'load_drop', 'max_steps' or 'diverged'; message
+    says why and, for a divergence, where it started."""
+    status: str
+    message: str
+    steps: int
+    wall_time: float
+
+
+@dataclass
+class History:
+    """Decimated histories (every ``every`` steps) and exact peaks."""
+    every: int
+    step: list = field(default_factory=list)
+    rows: list = field(default_factory=list)
+    peak: dict = field(default_factory=dict)       # group -> (load, disp, step)
+
+    def array(self):
+        return np.concatenate(self.rows) if self.rows else np.zeros((0, 0))
+
+
+class Solver:
+    """Explicit central differences with Cundall's local damping.
+
+    mode 'quasi-static': time step dt = 1 (pseudo-time; velocities are
+    displacements per step) and density scaling: nodal masses
+    m_i = k_i (dt / (2 s))^2 from a Gershgorin bound k_i of the nodal
+    stiffness (zones and contacts), so that dt = s dt_crit with the safety
+    factor s in (0, 1].  Damping alpha = 0.8 by default.
+
+    mode 'dynamic': physical lumped masses, dt given (default: s times the
+    critical step); a dt above the critical step 2 min sqrt(m_i / k_i) is
+    refused.  No damping by default.
+    """
+
+    def __init__(self, model, mode=QUASI_STATIC, damping=None, safety=0.8, dt=None,
+                 chunk=200, record_every=10):
+        if mode not in (QUASI_STATIC, DYNAMIC):
+            raise InputError("solver.mode", f"must be {QUASI_STATIC!r} or {DYNAMIC!r}, got {mode!r}")
+        if not (isinstance(safety, (int, float)) and 0 < safety <= 1):
+            raise InputError("solver.safety", f"must be in (0, 1], got {safety!r}")
+        if damping is None:
+            damping = 0.8 if mode == QUASI_STATIC else 0.0
+        if not (0.0 <= damping < 1.0):
+            raise InputError("solver.damping", f"must be in [0, 1), got {damping!r}")
+        self.model = model
+        self.b = b = model.build()
+        nn = b["nn"]
+        free = b["fixed"].min(axis=1) == 0
+        k = b["stiffness"]
+        floating = np.flatnonzero(free & (k <= 0))
+        if floating.size:
+            raise InputError("model", f"{floating.size} free nodes carry no stiffness "
+                             f"(first: node {floating[0]})")
+        self.mode = mode
+        self.alpha = float(damping)
+        if mode == QUASI_STATIC:
+            self.dt = 1.0
+            mass = np.where(k > 0, k * (self.dt / (2.0 * safety)) ** 2, 1.0)
+            self.dt_crit = self.dt / safety
+        else:
+            mass = b["mphys"].copy()
+            light = np.flatnonzero(free & (mass <= 0))
+            if light.size:
+                raise InputError("blocks.material.density",
+                                 "dynamic mode needs a positive density for every block")
+            mass[~free] = np.where(mass[~free] > 0, mass[~free], 1.0)
+            with np.errstate(divide="ignore"):
+                self.dt_crit = float(np.min(2.0 * np.sqrt(mass[free] / k[free])))
+            if dt is None:
+                dt = safety * self.dt_crit
+            if not (dt > 0) or dt > self.dt_crit:
+                raise InputError("solver.dt", f"time step {dt!r} s is above the critical step "
+                                 f"{self.dt_crit:.6g} s (2 min sqrt(m/k)) or not positive")
+            self.dt = float(dt)
+        self.mass = mass
+        self.u = np.zeros((nn, 3))
+        self.v = np.zeros((nn, 3))
+        self.f = np.zeros((nn, 3))
+        nt = b["tets"].shape[0]
+        self.stress = np.zeros((nt, 6))
+        self.zs = np.zeros((nt, K.N_ZS))
+        self.js = b["joints"]["state"].copy()
+        self.bs = b["bearings"]["state"].copy()
+        self.fixed = b["fixed"].copy()
+        self.vpres = b["vpres"].copy()
+        self.gravity = np.asarray(model.gravity, float).copy()
+        self.load_factor = 1.0
+        self.step = 0
+        self.chunk = int(chunk)
+        self.ngrp = len(model.monitors)
+        self.history = History(int(record_every))
+        self.last = np.zeros(2 + 2 * self.ngrp)
+        gsize = np.diff(b["gptr"]).max() if nt else 1
+        self._scratch = (np.zeros((gsize, 6)), np.zeros(gsize), np.zeros((3, 3)), np.zeros((3, 3)))
+        # smallest zone size, for the divergence guard
+        self.h_min = float(np.min(np.cbrt(6.0 * b["vol"]))) if nt else 1.0
+
+    # --- controls -------------------------------------------------------
+    def set_strip_velocity(self, strip, velocity):
+        self.vpres[strip.node] = np.asarray(velocity, float)
+
+    def monitor_index(self, name):
+        for g, (n, _, _) in enumerate(self.model.monitors):
+            if n == name:
+                return g
+        raise InputError("monitor", f"no monitor named {name!r}")
+
+    # --- stepping -------------------------------------------------------
+    def cycle(self, nsteps):
+        """Advances ``nsteps`` steps; returns (status code, steps done)."""
+        b = self.b
+        j, br = b["joints"], b["bearings"]
+        hist = np.empty((nsteps, 2 + 2 * self.ngrp))
+        status, done = K.run_chunk_entry(
+            b["zlaw"], b["jlaw"], nsteps, self.dt, self.alpha, self.load_factor, self.gravity,
+            self.u, self.v, self.f, self.mass, b["mphys"], self.fixed, self.vpres, b["fext"], b["x0"],
+            b["tets"], b["dn"], b["vol"], b["wt"], b["gptr"], b["gnodes"], b["gnptr"],
+            b["zp"], self.zs, self.stress,
+            j["nodes"], j["cnt"], j["w"], j["axes"], j["area"], j["par"], self.js,
+            br["nodes"], br["cnt"], br["w"], br["axes"], br["area"], br["par"], self.bs,
+            b["mon_nodes"], b["mon_dir"], b["mon_grp"], hist, *self._scratch)
+        hist = hist[:done]
+        for g in range(self.ngrp):
+            hist[:, 3 + 2 * g] /= max(1, int(np.sum(b["mon_grp"] == g)))
+        self._record(hist)
+        self.step += done
+        return status, done
+
+    def _record(self, hist):
+        h = self.history
+        if hist.shape[0] == 0:
+            return
+        idx = np.arange(self.step, self.step + hist.shape[0])
+        keep = (idx + 1) % h.every == 0
+        keep[-1] = True
+        h.rows.append(np.column_stack([idx[keep] + 1, hist[keep]]))
+        for g in range(self.ngrp):
+            i = int(np.argmax(hist[:, 2 + 2 * g]))
+            load = hist[i, 2 + 2 * g]
+            if g not in h.peak or load > h.peak[g][0]:
+                h.peak[g] = (float(load), float(hist[i, 3 + 2 * g]), int(idx[i] + 1))
+        self.last = hist[-1]
+
+    def kinetic_energy(self):
+        return float(0.5 * np.sum(self.mass[:, None] * self.v ** 2 * (self.fixed == 0)))
+
+    def _diverged_where(self):
+        """Where a blow-up started: the node with a non-finite or the largest
+        velocity, and its block."""
+        speed = np.linalg.norm(self.v, axis=1)
+        bad = np.flatnonzero(~np.isfinite(speed))
+        nd = int(bad[0]) if bad.size else int(np.argmax(speed))
+        blk = int(self.b["block_of_node"][nd])
+        return f"node {nd} (block {blk}, at {np.round(self.b['x0'][nd], 4).tolist()} m)"
+
+    def run(self, max_steps, ratio_tol=None, disp_limit=None, load_drop=None,
+            monitor=None, progress=None):
+        """Cycles until a stop criterion holds:
+
+        * ratio_tol: the unbalanced-force ratio fell below it ('converged');
+        * disp_limit: |mean displacement| of ``monitor`` reached it;
+        * load_drop: after the peak, the load of ``monitor`` fell below
+          load_drop * peak;
+        * max_steps;
+        * the divergence guard: non-finite values, or a node moving more
+          than 10 % of the smallest zone size in one step ('diverged').
+        ``progress(solver)`` is called after every chunk."""
+        t0 = time.perf_counter()
+        g = self.monitor_index(monitor) if monitor is not None else None
+        if (disp_limit is not None or load_drop is not None) and g is None:
+            raise InputError("run.monitor", "displacement and load-drop criteria need a monitor")
+        start = self.step
+        status, message = "max_steps", f"reached {max_steps} steps"
+        while self.step - start < max_steps:
+            n = min(self.chunk, max_steps - (self.step - start))
+            code, _ = self.cycle(n)
+            if progress is not None:
+                progress(self)
+            if code == K.ST_NONFINITE:
+                status, message = "diverged", f"non-finite values at step {self.step}, " \
+                                              f"starting at {self._diverged_where()}"
+                break
+            vmax = float(np.max(np.abs(self.v))) * self.dt
+            if vmax > 0.1 * self.h_min:
+                status, message = "diverged", (f"a node moved {vmax:.3g} m in one step (> 10% of the "
+                                               f"smallest zone, {self.h_min:.3g} m) at step {self.step}, "
+                                               f"starting at {self._diverged_where()}")
+                break
+            if ratio_tol is not None and self.last[0] < ratio_tol:
+                status, message = "converged", f"unbalanced-force ratio {self.last[0]:.3g} < {ratio_tol}"
+                break
+            if g is not None:
+                load, disp = self.last[2 + 2 * g], self.last[3 + 2 * g]
+                if disp_limit is not None and abs(disp) >= disp_limit:
+                    status, message = "displacement_limit", f"displacement {disp:.6g} m reached"
+                    break
+                peak = self.history.peak.get(g, (0.0,))[0]
+                if load_drop is not None and peak > 0 and load < load_drop * peak:
+                    status, message = "load_drop", f"load fell to {load / peak:.3f} of the peak"
+                    break
+        return RunResult(status, message, self.step - start, time.perf_counter() - t0)
+
+    # --- results ----------------------------------------------------------
+    def zone_damage(self):
+        """Tensile damage per tetrahedron: e_pt / e_ult in [0, 1]."""
+        ept, eult = self.zs[:, K.ZS_EPT], self.zs[:, K.ZS_EULT]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            d = np.where(eult > 0, ept / eult, 0.0)
+        return np.clip(d, 0.0, 1.0)
+
+    def joint_state(self):
+        return self.js
+
+    def max_rotation(self):
+        """Largest rigid rotation (rad) of any block, from the skew part of
+        the volume-averaged displacement gradient (checks the
+        small-displacement assumption)."""
+        b = self.b
+        t = b["tets"]
+        du = self.u[t[:, 1:]] - self.u[t[:, :1]]                    # (nt, 3, 3)
+        g = b["dn"].reshape(-1, 3, 3)                                # rows: grad N_a
+        grad = np.einsum("tai,taj->tij", du, g)                      # du_i/dx_j
+        w = 0.5 * (grad - np.transpose(grad, (0, 2, 1)))
+        omega = np.stack([w[:, 2, 1], w[:, 0, 2], w[:, 1, 0]], axis=1) * (b["vol"] * b["wt"])[:, None]
+        out = 0.0
+        start = 0
+        for blk in self.model.blocks:
+            n = blk.mesh.tets.shape[0]
+            vsum = np.sum(b["vol"][start:start + n] * b["wt"][start:start + n])
+            out = max(out, float(np.linalg.norm(omega[start:start + n].sum(axis=0)) / vsum))
+            start += n
+        return out
