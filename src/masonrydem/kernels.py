@@ -146,6 +146,30 @@ def tensile_strength(ft, ept, eult):
 
 
 @njit(**_INLINE)
+def mohr_coulomb_elastic(t, zp, zs, stress):
+    """Cheap test that a trial stress is inside the Mohr-Coulomb surface with
+    tension cut-off, with bounds on the extreme principal stresses: for the
+    deviator |s_i| <= 2 sqrt(J2/3), so s3 <= p + 2 sqrt(J2/3) and
+    s1 >= p - 2 sqrt(J2/3).  Only zones failing it pay for the
+    eigen-decomposition of ``zone_mohr_coulomb``."""
+    s0 = stress[t, 0]
+    s1_ = stress[t, 1]
+    s2_ = stress[t, 2]
+    s3_ = stress[t, 3]
+    s4_ = stress[t, 4]
+    s5_ = stress[t, 5]
+    nphi = zp[t, ZP_NPHI]
+    sig_t = tensile_strength(zp[t, ZP_FT], zs[t, ZS_EPT], zs[t, ZS_EULT])
+    p = (s0 + s1_ + s2_) / 3.0
+    dx = s0 - p
+    dy = s1_ - p
+    dz = s2_ - p
+    j2 = 0.5 * (dx * dx + dy * dy + dz * dz) + s3_ * s3_ + s4_ * s4_ + s5_ * s5_
+    r = 2.0 * math.sqrt(j2 / 3.0)
+    return p + r <= sig_t and (p - r) - (p + r) * nphi + 2.0 * zp[t, ZP_C] * math.sqrt(nphi) >= 0.0
+
+
+@njit(**_INLINE)
 def zone_mohr_coulomb(t, zp, zs, stress, a, v, x0, gnodes, k0, k1):
     """Mohr-Coulomb with tension cut-off on the elastic trial ``stress[t]``
     (Itasca FLAC3D formulation, principal stresses s1 <= s2 <= s3, tension
@@ -177,17 +201,6 @@ def zone_mohr_coulomb(t, zp, zs, stress, a, v, x0, gnodes, k0, k1):
     nphi = zp[t, ZP_NPHI]
     sqn = math.sqrt(nphi)
     sig_t = tensile_strength(zp[t, ZP_FT], zs[t, ZS_EPT], zs[t, ZS_EULT])
-    # Cheap elastic pre-check with bounds on the extreme principal stresses:
-    # for the deviator, |s_i| <= 2 sqrt(J2/3), so
-    # s3 <= p + 2 sqrt(J2/3) and s1 >= p - 2 sqrt(J2/3).
-    p = (s0 + s1_ + s2_) / 3.0
-    dx = s0 - p
-    dy = s1_ - p
-    dz = s2_ - p
-    j2 = 0.5 * (dx * dx + dy * dy + dz * dz) + s3_ * s3_ + s4_ * s4_ + s5_ * s5_
-    r = 2.0 * math.sqrt(j2 / 3.0)
-    if p + r <= sig_t and (p - r) - (p + r) * nphi + 2.0 * c * sqn >= 0.0:
-        return False
     eig_sym3(s0, s1_, s2_, s3_, s4_, s5_, a, v)
     # sort principal values ascending, remembering their columns
     i1, i2, i3 = 0, 1, 2
@@ -260,9 +273,46 @@ def zone_mohr_coulomb(t, zp, zs, stress, a, v, x0, gnodes, k0, k1):
 # =============================================================================
 # Zone kernel: strain rates, mixed discretization, stresses, nodal forces
 # =============================================================================
+@njit(**_INLINE)
+def _tet_forces(t, w, sxx, syy, szz, sxy, syz, szx, tets, dn, f):
+    """f_a -= w V sigma . grad N_a for the 4 nodes of tetrahedron t
+    (``w`` = weight * volume); grad N_0 = -(grad N_1 + grad N_2 + grad N_3)."""
+    sxx *= w
+    syy *= w
+    szz *= w
+    sxy *= w
+    syz *= w
+    szx *= w
+    f1x = sxx * dn[t, 0] + sxy * dn[t, 1] + szx * dn[t, 2]
+    f1y = sxy * dn[t, 0] + syy * dn[t, 1] + syz * dn[t, 2]
+    f1z = szx * dn[t, 0] + syz * dn[t, 1] + szz * dn[t, 2]
+    f2x = sxx * dn[t, 3] + sxy * dn[t, 4] + szx * dn[t, 5]
+    f2y = sxy * dn[t, 3] + syy * dn[t, 4] + syz * dn[t, 5]
+    f2z = szx * dn[t, 3] + syz * dn[t, 4] + szz * dn[t, 5]
+    f3x = sxx * dn[t, 6] + sxy * dn[t, 7] + szx * dn[t, 8]
+    f3y = sxy * dn[t, 6] + syy * dn[t, 7] + syz * dn[t, 8]
+    f3z = szx * dn[t, 6] + syz * dn[t, 7] + szz * dn[t, 8]
+    n0 = tets[t, 0]
+    n1 = tets[t, 1]
+    n2 = tets[t, 2]
+    n3 = tets[t, 3]
+    f[n1, 0] -= f1x
+    f[n1, 1] -= f1y
+    f[n1, 2] -= f1z
+    f[n2, 0] -= f2x
+    f[n2, 1] -= f2y
+    f[n2, 2] -= f2z
+    f[n3, 0] -= f3x
+    f[n3, 1] -= f3y
+    f[n3, 2] -= f3z
+    f[n0, 0] += f1x + f2x + f3x
+    f[n0, 1] += f1y + f2y + f3y
+    f[n0, 2] += f1z + f2z + f3z
+
+
 @njit(**_CACHE)
 def zone_forces(zlaw, dt, v, f, x0, tets, dn, vol, wt, gptr, gnodes, gnptr,
-                zp, zs, stress, de, ev_, a, evec):
+                zp, zs, stress, de, ev_, pending, a, evec):
     """Adds the zones' nodal forces to ``f``.
 
     For each tetrahedron: grad v = sum_a v_a (x) grad N_a,
@@ -272,8 +322,15 @@ def zone_forces(zlaw, dt, v, f, x0, tets, dn, vol, wt, gptr, gnodes, gnptr,
     the volume-weighted mean of the group.  Nodal forces
     f_a -= w V sigma . grad N_a, with w = 1/2 for the two overlays of a cell.
     ``dn[t]`` holds grad N_1..N_3 (grad N_0 = -sum).
-    """
+
+    Plastic laws run in a second pass: the first computes the elastic trial
+    and its forces and queues (in ``pending``) the zones that may yield; the
+    second corrects their stresses and adds the forces of the correction
+    (forces are linear in the stress).  Keeping the rarely-taken return
+    mapping out of the main loop keeps that loop fast.
+    Returns the number of zones that cracked (yielded in tension)."""
     ng = gptr.shape[0] - 1
+    npend = 0
     for g in range(ng):
         t0 = gptr[g]
         t1 = gptr[g + 1]
@@ -330,40 +387,28 @@ def zone_forces(zlaw, dt, v, f, x0, tets, dn, vol, wt, gptr, gnodes, gnptr,
             zone_elastic(t, de[k, 0] + corr, de[k, 1] + corr, de[k, 2] + corr,
                          de[k, 3], de[k, 4], de[k, 5], zp, stress)
             if zlaw == ZONE_MOHR_COULOMB:
-                zone_mohr_coulomb(t, zp, zs, stress, a, evec, x0, gnodes,
-                                  gnptr[g], gnptr[g + 1])
-            w = -wt[t] * vol[t]
-            sxx = w * stress[t, 0]
-            syy = w * stress[t, 1]
-            szz = w * stress[t, 2]
-            sxy = w * stress[t, 3]
-            syz = w * stress[t, 4]
-            szx = w * stress[t, 5]
-            f1x = sxx * dn[t, 0] + sxy * dn[t, 1] + szx * dn[t, 2]
-            f1y = sxy * dn[t, 0] + syy * dn[t, 1] + syz * dn[t, 2]
-            f1z = szx * dn[t, 0] + syz * dn[t, 1] + szz * dn[t, 2]
-            f2x = sxx * dn[t, 3] + sxy * dn[t, 4] + szx * dn[t, 5]
-            f2y = sxy * dn[t, 3] + syy * dn[t, 4] + syz * dn[t, 5]
-            f2z = szx * dn[t, 3] + syz * dn[t, 4] + szz * dn[t, 5]
-            f3x = sxx * dn[t, 6] + sxy * dn[t, 7] + szx * dn[t, 8]
-            f3y = sxy * dn[t, 6] + syy * dn[t, 7] + syz * dn[t, 8]
-            f3z = szx * dn[t, 6] + syz * dn[t, 7] + szz * dn[t, 8]
-            n0 = tets[t, 0]
-            n1 = tets[t, 1]
-            n2 = tets[t, 2]
-            n3 = tets[t, 3]
-            f[n1, 0] += f1x
-            f[n1, 1] += f1y
-            f[n1, 2] += f1z
-            f[n2, 0] += f2x
-            f[n2, 1] += f2y
-            f[n2, 2] += f2z
-            f[n3, 0] += f3x
-            f[n3, 1] += f3y
-            f[n3, 2] += f3z
-            f[n0, 0] -= f1x + f2x + f3x
-            f[n0, 1] -= f1y + f2y + f3y
-            f[n0, 2] -= f1z + f2z + f3z
+                if not mohr_coulomb_elastic(t, zp, zs, stress):
+                    pending[npend, 0] = t
+                    pending[npend, 1] = g
+                    npend += 1
+            _tet_forces(t, wt[t] * vol[t], stress[t, 0], stress[t, 1], stress[t, 2],
+                        stress[t, 3], stress[t, 4], stress[t, 5], tets, dn, f)
+    ncrack = 0
+    for i in range(npend):
+        t = pending[i, 0]
+        g = pending[i, 1]
+        o0 = stress[t, 0]
+        o1 = stress[t, 1]
+        o2 = stress[t, 2]
+        o3 = stress[t, 3]
+        o4 = stress[t, 4]
+        o5 = stress[t, 5]
+        if zone_mohr_coulomb(t, zp, zs, stress, a, evec, x0, gnodes, gnptr[g], gnptr[g + 1]):
+            ncrack += 1
+        _tet_forces(t, wt[t] * vol[t], stress[t, 0] - o0, stress[t, 1] - o1,
+                    stress[t, 2] - o2, stress[t, 3] - o3, stress[t, 4] - o4,
+                    stress[t, 5] - o5, tets, dn, f)
+    return ncrack
 
 
 # =============================================================================
@@ -537,7 +582,7 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, grav,
               tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
               j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
               b_nodes, b_cnt, b_w, b_axes, b_area, bp, bs,
-              mon_nodes, mon_dir, mon_grp, hist, de, ev_, a, evec):
+              mon_nodes, mon_dir, mon_grp, hist, de, ev_, pending, a, evec):
     """Advances ``nsteps`` explicit steps (central differences with Cundall's
     local non-viscous damping, Itasca FLAC3D/3DEC):
 
@@ -559,7 +604,7 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, grav,
         f[:, :] = 0.0
         if zlaw >= 0:
             zone_forces(zlaw, dt, v, f, x0, tets, dn, vol, wt, gptr, gnodes,
-                        gnptr, zp, zs, stress, de, ev_, a, evec)
+                        gnptr, zp, zs, stress, de, ev_, pending, a, evec)
         if j_area.shape[0] > 0:
             contact_forces(jlaw, dt, v, f, j_nodes, j_cnt, j_w, j_axes,
                            j_area, jp, js)
@@ -614,7 +659,7 @@ def run_chunk_entry(zlaw, jlaw, nsteps, dt, alpha, lf, grav,
                     tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
                     j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
                     b_nodes, b_cnt, b_w, b_axes, b_area, bp, bs,
-                    mon_nodes, mon_dir, mon_grp, hist, de, ev_, a, evec):
+                    mon_nodes, mon_dir, mon_grp, hist, de, ev_, pending, a, evec):
     """Entry point: specialises ``run_chunk`` on the literal law ids, so only
     the laws a model uses are compiled (and cached)."""
     return run_chunk(literally(zlaw), literally(jlaw), nsteps, dt, alpha, lf,
@@ -622,4 +667,4 @@ def run_chunk_entry(zlaw, jlaw, nsteps, dt, alpha, lf, grav,
                      tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
                      j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
                      b_nodes, b_cnt, b_w, b_axes, b_area, bp, bs,
-                     mon_nodes, mon_dir, mon_grp, hist, de, ev_, a, evec)
+                     mon_nodes, mon_dir, mon_grp, hist, de, ev_, pending, a, evec)

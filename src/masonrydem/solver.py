@@ -113,7 +113,8 @@ class Solver:
         self.history = History(int(record_every))
         self.last = np.zeros(2 + 2 * self.ngrp)
         gsize = np.diff(b["gptr"]).max() if nt else 1
-        self._scratch = (np.zeros((gsize, 6)), np.zeros(gsize), np.zeros((3, 3)), np.zeros((3, 3)))
+        self._scratch = (np.zeros((gsize, 6)), np.zeros(gsize), np.zeros((max(nt, 1), 2), np.int64),
+                         np.zeros((3, 3)), np.zeros((3, 3)))
         # smallest zone size, for the divergence guard
         self.h_min = float(np.min(np.cbrt(6.0 * b["vol"]))) if nt else 1.0
 
