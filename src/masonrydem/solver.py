@@ -170,7 +170,8 @@ class Solver:
     def _diverged_where(self):
         """Where a blow-up started: the node with a non-finite or the largest
         velocity, and its block."""
-        speed = np.linalg.norm(self.v, axis=1)
+        with np.errstate(over="ignore", invalid="ignore"):
+            speed = np.sqrt(np.sum(self.v ** 2, axis=1))
         bad = np.flatnonzero(~np.isfinite(speed))
         nd = int(bad[0]) if bad.size else int(np.argmax(speed))
         blk = int(self.b["block_of_node"][nd])

@@ -1,0 +1,65 @@
+"""Small specimens for the verification tests."""
+import numpy as np
+
+from masonrydem import Elastic, JointProps, Model, Solver
+
+TOL = 1e-9
+
+
+def two_blocks(joint_law, props, size=0.1, height=0.05, cells=(1, 1, 1), E=1e12):
+    """Two stiff elastic blocks stacked along z, touching at z = height."""
+    m = Model()
+    mat = Elastic(E=E, nu=0.2)
+    lower = m.add_box([0, 0, 0], [size, size, height], cells, mat)
+    upper = m.add_box([0, 0, height], [size, size, 2 * height], cells, mat)
+    m.set_joints(joint_law, props)
+    return m, lower, upper
+
+
+def block_nodes(m, blk):
+    return np.arange(blk.node0, blk.node0 + blk.n_nodes)
+
+
+def work(history, group=0):
+    """Work of the monitored load, int P du (trapezoidal rule)."""
+    P = history[:, 3 + 2 * group]
+    u = history[:, 4 + 2 * group]
+    return float(np.sum(0.5 * (P[1:] + P[:-1]) * np.diff(u)))
+
+
+def pull_joint(props, rate=2e-9, law="coupled_softening", max_steps=200_000):
+    """Direct tension of one joint under displacement control: the lower
+    block is fixed, every node of the upper block moves up at ``rate`` per
+    step.  Returns (solver, history, area)."""
+    m, lower, upper = two_blocks(law, props)
+    m.fix(block_nodes(m, lower))
+    up = block_nodes(m, upper)
+    m.fix(up, dofs=(0, 1, 2), velocity=(0.0, 0.0, rate))
+    m.add_monitor("pull", up, 2)
+    s = Solver(m, record_every=1)
+    wu = 2 * props.GI / props.ft
+    s.run(max_steps, disp_limit=1.2 * wu + props.ft / props.kn, monitor="pull")
+    return s, s.history.array(), 0.01
+
+
+def shear_joint(props, sigma, rate=2e-9, law="coupled_softening", travel=None, max_steps=400_000):
+    """Direct shear of one joint at constant normal (compressive) stress
+    ``sigma``: lower block fixed; every node of the upper block moves along x
+    at ``rate`` per step, is held in y and free in z; a pressure sigma acts
+    on the top face.  Returns (solver, history, area)."""
+    m, lower, upper = two_blocks(law, props)
+    m.fix(block_nodes(m, lower))
+    up = block_nodes(m, upper)
+    m.fix(up, dofs=(0, 1), velocity=(rate, 0.0))
+    if sigma:
+        m.add_pressure(2, 0.1, +1, ((-1, 1), (-1, 1)), sigma)
+    m.add_monitor("shear", up, 0)
+    s = Solver(m, record_every=1)
+    if sigma:                       # precompress first, then shear
+        s.vpres[up, 0] = 0.0
+        s.run(50_000, ratio_tol=1e-8)
+        s.vpres[up, 0] = rate
+    su = 2 * props.GII / props.c
+    travel = travel or 1.5 * su + props.c / props.ks
+    s.run(max_steps, disp_limit=travel, monitor="shear")
+    return s, s.history.array(), 0.01
