@@ -143,3 +143,18 @@ def test_divergence_guard_names_the_node():
     assert res.status == "diverged"
     assert "node" in res.message and "block 0" in res.message
     assert res.steps < 100_000
+
+
+def test_velocity_ramp_displacement():
+    """A prescribed velocity v ramped over N steps moves a node by
+    v sum_k min(1, k/N) = v (T - N + (N + 1)/2) after T >= N steps
+    (exact up to roundoff), and by v T when not ramped."""
+    m = _dynamic_block()
+    top = m.select(lambda x: x[:, 2] > 0.1 - 1e-9)
+    m.fix(top, dofs=[2], velocity=1e-6)
+    s = Solver(m)
+    N, T = 300, 1000
+    s.run(T, ramp_steps=N)
+    assert s.u[top, 2] == pytest.approx(1e-6 * (T - N + (N + 1) / 2), rel=1e-12)
+    s.run(T)
+    assert s.u[top, 2] == pytest.approx(1e-6 * (2 * T - N + (N + 1) / 2), rel=1e-12)

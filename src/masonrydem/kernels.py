@@ -577,7 +577,7 @@ def contact_forces(jlaw, dt, v, f, nodes, cnt, w, axes, area, jp, js):
 # Time stepping
 # =============================================================================
 @njit(**_CACHE)
-def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, grav,
+def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
               u, v, f, mass, mgrav, fixed, vpres, fext, x0,
               tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
               j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
@@ -590,8 +590,9 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, grav,
         v(t+dt/2) = v(t-dt/2) + dt/m (F - alpha |F| sgn(v(t-dt/2))),
         u(t+dt)   = u(t) + dt v(t+dt/2)                   (per component)
 
-    Constrained components take their prescribed velocity; the force they
-    carry is their reaction.  Per step, ``hist`` receives
+    Constrained components take their prescribed velocity times the velocity
+    factor min(1, vf0 + (step + 1) dvf) (a linear ramp that starts loading
+    without an inertial shock); the force they carry is their reaction.  Per step, ``hist`` receives
     [unbalanced-force ratio, kinetic energy, then per monitor group the
     reaction (sum of -F along its direction) and the mean displacement].
     The ratio is sum |F| over free components / sum of |applied| forces
@@ -601,6 +602,7 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, grav,
     nn = u.shape[0]
     ngrp = (hist.shape[1] - 2) // 2
     for step in range(nsteps):
+        vf = min(1.0, vf0 + (step + 1) * dvf)
         f[:, :] = 0.0
         if zlaw >= 0:
             zone_forces(zlaw, dt, v, f, x0, tets, dn, vol, wt, gptr, gnodes,
@@ -622,7 +624,7 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, grav,
                 ff = f[i, d] + fa
                 f[i, d] = ff
                 if fixed[i, d]:
-                    vv = vpres[i, d]
+                    vv = vf * vpres[i, d]
                     applied += abs(ff)
                 else:
                     vo = v[i, d]
@@ -654,7 +656,7 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, grav,
 
 
 @njit(**_CACHE)
-def run_chunk_entry(zlaw, jlaw, nsteps, dt, alpha, lf, grav,
+def run_chunk_entry(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
                     u, v, f, mass, mgrav, fixed, vpres, fext, x0,
                     tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
                     j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
@@ -663,7 +665,7 @@ def run_chunk_entry(zlaw, jlaw, nsteps, dt, alpha, lf, grav,
     """Entry point: specialises ``run_chunk`` on the literal law ids, so only
     the laws a model uses are compiled (and cached)."""
     return run_chunk(literally(zlaw), literally(jlaw), nsteps, dt, alpha, lf,
-                     grav, u, v, f, mass, mgrav, fixed, vpres, fext, x0,
+                     vf0, dvf, grav, u, v, f, mass, mgrav, fixed, vpres, fext, x0,
                      tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
                      j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
                      b_nodes, b_cnt, b_w, b_axes, b_area, bp, bs,

@@ -30,7 +30,8 @@ class RunResult:
 
 @dataclass
 class History:
-    """Decimated histories (every ``every`` steps) and exact peaks."""
+    """Decimated histories (every ``every`` steps, all runs) and the exact
+    peaks of the current (last) run, i.e. of the current loading stage."""
     every: int
     step: list = field(default_factory=list)
     rows: list = field(default_factory=list)
@@ -107,6 +108,8 @@ class Solver:
         self.vpres = b["vpres"].copy()
         self.gravity = np.asarray(model.gravity, float).copy()
         self.load_factor = 1.0
+        self.velocity_factor = 1.0
+        self._ramp = 0.0          # velocity-factor increment per step
         self.step = 0
         self.chunk = int(chunk)
         self.ngrp = len(model.monitors)
@@ -135,7 +138,8 @@ class Solver:
         j, br = b["joints"], b["bearings"]
         hist = np.empty((nsteps, 2 + 2 * self.ngrp))
         status, done = K.run_chunk_entry(
-            b["zlaw"], b["jlaw"], nsteps, self.dt, self.alpha, self.load_factor, self.gravity,
+            b["zlaw"], b["jlaw"], nsteps, self.dt, self.alpha, self.load_factor,
+            self.velocity_factor, self._ramp, self.gravity,
             self.u, self.v, self.f, self.mass, b["mphys"], self.fixed, self.vpres, b["fext"], b["x0"],
             b["tets"], b["dn"], b["vol"], b["wt"], b["gptr"], b["gnodes"], b["gnptr"],
             b["zp"], self.zs, self.stress,
@@ -143,6 +147,7 @@ class Solver:
             br["nodes"], br["cnt"], br["w"], br["axes"], br["area"], br["par"], self.bs,
             b["mon_nodes"], b["mon_dir"], b["mon_grp"], hist, *self._scratch)
         hist = hist[:done]
+        self.velocity_factor = min(1.0, self.velocity_factor + done * self._ramp)
         for g in range(self.ngrp):
             hist[:, 3 + 2 * g] /= max(1, int(np.sum(b["mon_grp"] == g)))
         self._record(hist)
@@ -178,7 +183,7 @@ class Solver:
         return f"node {nd} (block {blk}, at {np.round(self.b['x0'][nd], 4).tolist()} m)"
 
     def run(self, max_steps, ratio_tol=None, disp_limit=None, load_drop=None,
-            monitor=None, progress=None):
+            monitor=None, progress=None, ramp_steps=0):
         """Cycles until a stop criterion holds:
 
         * ratio_tol: the unbalanced-force ratio fell below it ('converged');
@@ -186,6 +191,9 @@ class Solver:
         * load_drop: after the peak, the load of ``monitor`` fell below
           load_drop * peak;
         * max_steps;
+        ramp_steps: the prescribed velocities grow linearly from zero to their
+        full value over the first ``ramp_steps`` steps of this run.
+        Peaks (``history.peak``) are those of this run.
         * the divergence guard: non-finite values, or a node moving more
           than 10 % of the smallest zone size in one step ('diverged').
         ``progress(solver)`` is called after every chunk."""
@@ -194,6 +202,11 @@ class Solver:
         if (disp_limit is not None or load_drop is not None) and g is None:
             raise InputError("run.monitor", "displacement and load-drop criteria need a monitor")
         start = self.step
+        self.history.peak = {}
+        if ramp_steps:
+            self.velocity_factor, self._ramp = 0.0, 1.0 / ramp_steps
+        else:
+            self.velocity_factor, self._ramp = 1.0, 0.0
         status, message = "max_steps", f"reached {max_steps} steps"
         while self.step - start < max_steps:
             n = min(self.chunk, max_steps - (self.step - start))
