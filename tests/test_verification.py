@@ -301,9 +301,23 @@ def test_zone_bar_crack_band_energy_mesh_independent():
 
 # --- quasi-static rate independence ---------------------------------------------------
 def test_quasi_static_rate_independence():
-    """Halving the loading rate of the joint tension test changes neither
-    the peak nor the dissipated energy by more than 0.5 %."""
-    _, H1, _ = pull_joint(JOINT, rate=4e-9)
-    _, H2, _ = pull_joint(JOINT, rate=2e-9)
-    assert H1[:, 3].max() == pytest.approx(H2[:, 3].max(), rel=0.005)
-    assert work(H1) == pytest.approx(work(H2), rel=0.005)
+    """Halving the loading rate of the softening zone bar (10 cells) changes
+    the peak and the dissipated energy by less than 1 %."""
+    _, H1, _ = _zone_bar(10, rate=4e-9)
+    _, H2, _ = _zone_bar(10, rate=2e-9)
+    assert H1[:, 3].max() == pytest.approx(H2[:, 3].max(), rel=0.01)
+    assert work(H1) == pytest.approx(work(H2), rel=0.01)
+
+
+def test_brittle_coulomb_joint():
+    """Brittle Coulomb with tension cut-off: a joint pulled apart carries
+    k_n u up to f_t A (2 %), then nothing: the work of the pull is only the
+    elastic energy f_t^2 / (2 k_n) A (5 %), far below G_I A of the softening
+    law; sheared at zero normal stress it loses its cohesion at once."""
+    s, H, A = pull_joint(JOINT, law="brittle_coulomb")
+    assert H[:, 3].max() == pytest.approx(JOINT.ft * A, rel=0.02)
+    assert abs(H[-1, 3]) < 1e-9 * JOINT.ft * A
+    assert work(H) == pytest.approx(JOINT.ft ** 2 / (2 * JOINT.kn) * A, rel=0.05)
+    s, H, A = shear_joint(JOINT, 0.0, rate=1e-8, law="brittle_coulomb", travel=1e-4)
+    assert H[:, 3].max() == pytest.approx(JOINT.c * A, rel=0.02)
+    assert abs(H[-1, 3]) < 1e-9 * JOINT.c * A
