@@ -158,3 +158,21 @@ def test_velocity_ramp_displacement():
     assert s.u[top, 2] == pytest.approx(1e-6 * (T - N + (N + 1) / 2), rel=1e-12)
     s.run(T)
     assert s.u[top, 2] == pytest.approx(1e-6 * (2 * T - N + (N + 1) / 2), rel=1e-12)
+
+
+def test_large_rotation_stops_the_run():
+    """The formulation is small-displacement: a block spun rigidly (v = omega
+    x r on every node) past the rotation limit stops with status
+    'large_displacement', at an angle between the limit and the limit plus
+    the rotation of one check interval (20 chunks)."""
+    m = Model()
+    m.add_box([0, 0, 0], [0.1, 0.1, 0.1], 1, Elastic(1e9, 0.2))
+    x = m.x0
+    omega = 1e-4          # rad per step, about z
+    vel = omega * np.column_stack([-(x[:, 1] - 0.05), x[:, 0] - 0.05, 0 * x[:, 0]])
+    for nd in range(x.shape[0]):
+        m.fix([nd], dofs=(0, 1, 2), velocity=vel[nd])
+    s = Solver(m, chunk=10, rotation_limit=0.05)
+    res = s.run(100_000)
+    assert res.status == "large_displacement"
+    assert 0.05 < omega * res.steps <= 0.05 + omega * 200 + 1e-12

@@ -191,17 +191,12 @@ def zone_mohr_coulomb(t, zp, zs, stress, a, v, x0, gnodes, k0, k1):
         h = s3 - sigma_t + alpha_P (s1 - sigma_P),
         alpha_P = sqrt(1 + N_phi^2) + N_phi, sigma_P = sigma_t N_phi - 2c sqrt(N_phi).
     Returns True if the zone yielded in tension this step."""
-    s0 = stress[t, 0]
-    s1_ = stress[t, 1]
-    s2_ = stress[t, 2]
-    s3_ = stress[t, 3]
-    s4_ = stress[t, 4]
-    s5_ = stress[t, 5]
     c = zp[t, ZP_C]
     nphi = zp[t, ZP_NPHI]
     sqn = math.sqrt(nphi)
     sig_t = tensile_strength(zp[t, ZP_FT], zs[t, ZS_EPT], zs[t, ZS_EULT])
-    eig_sym3(s0, s1_, s2_, s3_, s4_, s5_, a, v)
+    eig_sym3(stress[t, 0], stress[t, 1], stress[t, 2], stress[t, 3], stress[t, 4],
+             stress[t, 5], a, v)
     # sort principal values ascending, remembering their columns
     i1, i2, i3 = 0, 1, 2
     if a[i1, i1] > a[i2, i2]:

@@ -20,7 +20,8 @@ class RunResult:
     """Outcome of ``Solver.run``.
 
     status: 'converged' (unbalanced-force ratio below tolerance),
-    'displacement_limit', 'load_drop', 'max_steps' or 'diverged'; message
+    'displacement_limit', 'load_drop', 'max_steps', 'diverged' or
+    'large_displacement' (beyond the small-displacement formulation); message
     says why and, for a divergence, where it started."""
     status: str
     message: str
@@ -53,10 +54,15 @@ class Solver:
     mode 'dynamic': physical lumped masses, dt given (default: s times the
     critical step); a dt above the critical step 2 min sqrt(m_i / k_i) is
     refused.  No damping by default.
+
+    The formulation is small-displacement (strains on the initial geometry,
+    joints with fixed axes): ``run`` stops with status
+    'large_displacement' when a block rotates by more than
+    ``rotation_limit`` radians (checked every 20 chunks).
     """
 
     def __init__(self, model, mode=QUASI_STATIC, damping=None, safety=0.8, dt=None,
-                 chunk=200, record_every=10):
+                 chunk=200, record_every=10, rotation_limit=0.05):
         if mode not in (QUASI_STATIC, DYNAMIC):
             raise InputError("solver.mode", f"must be {QUASI_STATIC!r} or {DYNAMIC!r}, got {mode!r}")
         if not (isinstance(safety, (int, float)) and 0 < safety <= 1):
@@ -66,6 +72,7 @@ class Solver:
         if not (0.0 <= damping < 1.0):
             raise InputError("solver.damping", f"must be in [0, 1), got {damping!r}")
         self.model = model
+        self.rotation_limit = float(rotation_limit)
         self.b = b = model.build()
         nn = b["nn"]
         free = b["fixed"].min(axis=1) == 0
@@ -208,7 +215,9 @@ class Solver:
         else:
             self.velocity_factor, self._ramp = 1.0, 0.0
         status, message = "max_steps", f"reached {max_steps} steps"
+        chunks = 0
         while self.step - start < max_steps:
+            chunks += 1
             n = min(self.chunk, max_steps - (self.step - start))
             code, _ = self.cycle(n)
             if progress is not None:
@@ -222,6 +231,11 @@ class Solver:
                 status, message = "diverged", (f"a node moved {vmax:.3g} m in one step (> 10% of the "
                                                f"smallest zone, {self.h_min:.3g} m) at step {self.step}, "
                                                f"starting at {self._diverged_where()}")
+                break
+            if chunks % 20 == 0 and (rot := self.max_rotation()) > self.rotation_limit:
+                status, message = "large_displacement", (
+                    f"a block rotated by {rot:.3g} rad (> {self.rotation_limit}) at step {self.step}: "
+                    "beyond the small-displacement formulation")
                 break
             if ratio_tol is not None and self.last[0] < ratio_tol:
                 status, message = "converged", f"unbalanced-force ratio {self.last[0]:.3g} < {ratio_tol}"
