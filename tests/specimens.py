@@ -1,9 +1,8 @@
 """Small specimens for the verification tests."""
 import numpy as np
 
-from masonrydem import Elastic, JointProps, Model, Solver
+from masonrydem import Elastic, Model, Solver
 
-TOL = 1e-9
 
 
 def two_blocks(joint_law, props, size=0.1, height=0.05, cells=(1, 1, 1), E=1e12):

@@ -18,7 +18,6 @@ Joint law ids:  JOINT_ELASTIC, JOINT_BRITTLE_COULOMB, JOINT_COUPLED, JOINT_BEARI
 """
 import math
 
-import numpy as np
 from numba import literally, njit
 
 ZONE_ELASTIC = 0
@@ -206,7 +205,6 @@ def zone_mohr_coulomb(t, zp, zs, stress, a, v, x0, gnodes, k0, k1):
     if a[i1, i1] > a[i2, i2]:
         i1, i2 = i2, i1
     p1 = a[i1, i1]
-    p2 = a[i2, i2]
     p3 = a[i3, i3]
     fs = p1 - p3 * nphi + 2.0 * c * sqn
     if fs >= 0.0 and p3 <= sig_t:

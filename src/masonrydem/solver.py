@@ -2,7 +2,6 @@
 scaling, local damping) or dynamic (physical masses), histories, stop
 criteria and a divergence guard.
 """
-import math
 import time
 from dataclasses import dataclass, field
 
@@ -34,7 +33,6 @@ class History:
     """Decimated histories (every ``every`` steps, all runs) and the exact
     peaks of the current (last) run, i.e. of the current loading stage."""
     every: int
-    step: list = field(default_factory=list)
     rows: list = field(default_factory=list)
     peak: dict = field(default_factory=dict)       # group -> (load, disp, step)
 
@@ -175,9 +173,6 @@ class Solver:
             if g not in h.peak or load > h.peak[g][0]:
                 h.peak[g] = (float(load), float(hist[i, 3 + 2 * g]), int(idx[i] + 1))
         self.last = hist[-1]
-
-    def kinetic_energy(self):
-        return float(0.5 * np.sum(self.mass[:, None] * self.v ** 2 * (self.fixed == 0)))
 
     def _diverged_where(self):
         """Where a blow-up started: the node with a non-finite or the largest
