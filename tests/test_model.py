@@ -176,3 +176,44 @@ def test_large_rotation_stops_the_run():
     res = s.run(100_000)
     assert res.status == "large_displacement"
     assert 0.05 < omega * res.steps <= 0.05 + omega * 200 + 1e-12
+
+
+def test_energy_guard_catches_slow_blow_up():
+    """At 1.2 x the (conservative) critical step the instability grows
+    slowly; the guard stops the run when the kinetic energy exceeds ten
+    times the energy put in (initial kinetic energy + work of the loads),
+    which a stable run can never do."""
+    m = _dynamic_block()
+    top = m.select(lambda x: x[:, 2] > 0.1 - 1e-9)
+    m.add_force(top, [0, 0, -100.0])
+    stable = Solver(m, mode="dynamic")
+    stable.run(20_000)
+    assert stable.last[1] <= stable.energy_in + stable.work[0]
+    s = Solver(m, mode="dynamic")
+    s.dt = 1.2 * s.dt_crit
+    res = s.run(200_000)
+    assert res.status == "diverged" and "energy blow-up" in res.message
+
+
+def test_strip_node_numbered_after_all_blocks():
+    """A strip added before a block still gets its own node, after every
+    block node; its sub-contacts and monitor point at that node."""
+    m = Model()
+    m.add_box([0, 0, 0], [0.1, 0.1, 0.1], 1, Elastic(1e9, 0.2))
+    strip = m.add_strip("s", 2, 0.1, +1, ((0, 0.1), (0, 0.1)), kn=1e10)
+    m.add_box([0.2, 0, 0], [0.3, 0.1, 0.1], 1, Elastic(1e9, 0.2))
+    m.add_monitor("s", [strip], 2)
+    b = m.build()
+    assert strip.node == 16 and b["nn"] == 17
+    assert np.all(b["bearings"]["nodes"][:, 4] == 16)
+    assert b["mon_nodes"].tolist() == [16]
+    assert np.all(b["fixed"][16] == 1) and np.all(b["fixed"][8] == 0)
+
+
+def test_refused_strip_leaves_nothing_behind():
+    """A strip refused for a bad velocity adds no sub-contact."""
+    m = Model()
+    m.add_box([0, 0, 0], [0.1, 0.1, 0.1], 1, Elastic(1e9, 0.2))
+    with pytest.raises(InputError, match="strips.s.velocity"):
+        m.add_strip("s", 2, 0.1, +1, ((0, 0.1), (0, 0.1)), kn=1e10, velocity=(0, 1))
+    assert m.build()["bearings"]["area"].size == 0 and m.strips == []

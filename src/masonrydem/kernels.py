@@ -18,6 +18,7 @@ Joint law ids:  JOINT_ELASTIC, JOINT_BRITTLE_COULOMB, JOINT_COUPLED, JOINT_BEARI
 """
 import math
 
+import numpy as np
 from numba import literally, njit
 
 ZONE_ELASTIC = 0
@@ -575,7 +576,7 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
               tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
               j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
               b_nodes, b_cnt, b_w, b_axes, b_area, bp, bs,
-              mon_nodes, mon_dir, mon_grp, hist, de, ev_, pending, a, evec):
+              mon_nodes, mon_dir, mon_grp, hist, work, de, ev_, pending, a, evec):
     """Advances ``nsteps`` explicit steps (central differences with Cundall's
     local non-viscous damping, Itasca FLAC3D/3DEC):
 
@@ -590,6 +591,8 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
     reaction (sum of -F along its direction) and the mean displacement].
     The ratio is sum |F| over free components / sum of |applied| forces
     (external, gravity, and reactions of the constrained components).
+    ``work[0]`` accumulates the work done on the model: reactions times the
+    prescribed velocities and applied forces times the free velocities.
     Returns (status, steps done); status ST_NONFINITE stops at the first
     step whose kinetic energy is not finite."""
     nn = u.shape[0]
@@ -609,6 +612,7 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
         unbal = 0.0
         applied = 0.0
         ke = 0.0
+        wk = 0.0
         for i in range(nn):
             m = mass[i]
             mg = mgrav[i]
@@ -619,6 +623,7 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
                 if fixed[i, d]:
                     vv = vf * vpres[i, d]
                     applied += abs(ff)
+                    wk -= ff * vv
                 else:
                     vo = v[i, d]
                     unbal += abs(ff)
@@ -630,9 +635,14 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
                         ff += damp
                     vv = vo + dt * ff / m
                     ke += 0.5 * m * vv * vv
+                    wk += fa * vv
                 v[i, d] = vv
                 u[i, d] += dt * vv
-        hist[step, 0] = unbal / applied if applied > 0.0 else unbal
+        work[0] += dt * wk
+        if applied > 0.0:
+            hist[step, 0] = unbal / applied
+        else:
+            hist[step, 0] = 0.0 if unbal == 0.0 else np.inf
         hist[step, 1] = ke
         for gi in range(ngrp):
             hist[step, 2 + 2 * gi] = 0.0
@@ -654,7 +664,7 @@ def run_chunk_entry(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
                     tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
                     j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
                     b_nodes, b_cnt, b_w, b_axes, b_area, bp, bs,
-                    mon_nodes, mon_dir, mon_grp, hist, de, ev_, pending, a, evec):
+                    mon_nodes, mon_dir, mon_grp, hist, work, de, ev_, pending, a, evec):
     """Entry point: specialises ``run_chunk`` on the literal law ids, so only
     the laws a model uses are compiled (and cached)."""
     return run_chunk(literally(zlaw), literally(jlaw), nsteps, dt, alpha, lf,
@@ -662,4 +672,4 @@ def run_chunk_entry(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
                      tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
                      j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
                      b_nodes, b_cnt, b_w, b_axes, b_area, bp, bs,
-                     mon_nodes, mon_dir, mon_grp, hist, de, ev_, pending, a, evec)
+                     mon_nodes, mon_dir, mon_grp, hist, work, de, ev_, pending, a, evec)

@@ -126,7 +126,7 @@ class Strip:
     prescribed velocity, bearing on block faces through compression-only,
     frictionless sub-contacts of stiffness kn (Pa/m)."""
     name: str
-    node: int
+    node: int             # global node (set by Model.build)
     axis: int
     normal: int
     kn: float
@@ -338,29 +338,30 @@ class Model:
         """A rigid bearing strip on the plane x[axis] = coord, covering
         ``rect`` = ((plo, phi), (qlo, qhi)) in the plane's coordinates
         (p, q) = (axis+1, axis+2) mod 3, bearing on the block faces whose
-        outward normal is ``normal`` * e_axis.  Moves with ``velocity``."""
+        outward normal is ``normal`` * e_axis.  Moves with ``velocity``.
+        Its node follows the block nodes; its number is set by ``build``."""
         where = f"strips.{name}"
         if kn is None or not np.isfinite(kn) or kn <= 0:
             raise InputError(f"{where}.kn", f"must be a positive stiffness, got {kn!r}")
-        faces = self._faces_on_plane(axis, coord, normal)
-        node = self.n_nodes + len(self.strips)     # strip nodes follow block nodes
-        start = len(self._strip_sc)
+        velocity = _check_3(f"{where}.velocity", velocity)
+        index = len(self.strips)
         row = np.zeros(K.N_JP)
         row[K.JP_KN] = kn
         axes = _axes(axis, float(normal))
-        for b, side in faces:
+        points = []
+        for b, side in self._faces_on_plane(axis, coord, normal):
             r = self._face_rect(b, axis, rect)
-            if r is None:
-                continue
-            P, Q, A = b.face_points(axis, r, self.subcontact_refine)
-            for pp, qq, ar in zip(P, Q, A):
-                na, wa = b.interpolate(axis, side, pp, qq)
-                self._strip_sc.add(na, wa, [node], [1.0], axes, ar, row)
-        if len(self._strip_sc) == start:
+            if r is not None:
+                points += [(b.interpolate(axis, side, pp, qq), ar)
+                           for pp, qq, ar in zip(*b.face_points(axis, r, self.subcontact_refine))]
+        if not points:
             raise InputError(f"{where}.rect", "the strip touches no block face")
-        area = float(sum(self._strip_sc.area[start:]))
-        strip = Strip(name, node, axis, int(normal), float(kn), slice(start, len(self._strip_sc)), area)
-        strip.velocity = _check_3(f"{where}.velocity", velocity)
+        start = len(self._strip_sc)
+        for (na, wa), ar in points:     # side B: the strip, -(index + 1) until build
+            self._strip_sc.add(na, wa, [-(index + 1)], [1.0], axes, ar, row)
+        strip = Strip(name, -1, axis, int(normal), float(kn), slice(start, len(self._strip_sc)),
+                      float(sum(ar for _, ar in points)))
+        strip.velocity = velocity
         p, q = (axis + 1) % 3, (axis + 2) % 3
         strip.x0 = np.zeros(3)
         strip.x0[axis], strip.x0[p], strip.x0[q] = coord, np.mean(rect[0]), np.mean(rect[1])
@@ -419,11 +420,14 @@ class Model:
     def add_monitor(self, name, nodes, direction):
         """Records, every step, the reaction (sum over ``nodes`` of the force
         the constraint applies, along ``direction``) and the mean
-        displacement of ``nodes`` along ``direction``."""
-        nodes = np.atleast_1d(np.asarray(nodes, np.int64))
+        displacement of ``nodes`` along ``direction``.  ``nodes``: node
+        indices, or Strip objects (their nodes are numbered at build)."""
         if direction not in (0, 1, 2):
             raise InputError(f"monitors.{name}.direction", f"must be 0, 1 or 2, got {direction!r}")
-        self.monitors.append((name, nodes, int(direction)))
+        items = list(nodes) if np.ndim(nodes) else [nodes]
+        if not items:
+            raise InputError(f"monitors.{name}.nodes", "no node selected")
+        self.monitors.append((name, items, int(direction)))
         self._built = None
 
     # --- assembly --------------------------------------------------------
@@ -464,6 +468,10 @@ class Model:
             self._find_contacts(sc)
         joints = sc.pack()
         bearings = self._strip_sc.pack()
+        strip_side = bearings["nodes"][:, 4]
+        bearings["nodes"][:, 4] = np.where(strip_side < 0, nb - strip_side - 1, strip_side)
+        for i, s in enumerate(self.strips):
+            s.node = nb + i
         fixed = np.zeros((nn, 3), np.uint8)
         vpres = np.zeros((nn, 3))
         for nd, dd in self._fixed.items():
@@ -490,8 +498,9 @@ class Model:
         _contact_stiffness(stiff, joints)
         _contact_stiffness(stiff, bearings)
         mon_nodes, mon_dir, mon_grp = [], [], []
-        for g, (_, nodes, d) in enumerate(self.monitors):
-            mon_nodes.extend(nodes.tolist())
+        for g, (_, items, d) in enumerate(self.monitors):
+            nodes = [it.node if isinstance(it, Strip) else int(it) for it in items]
+            mon_nodes.extend(nodes)
             mon_dir.extend([d] * len(nodes))
             mon_grp.extend([g] * len(nodes))
         self._built = dict(

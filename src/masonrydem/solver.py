@@ -113,6 +113,8 @@ class Solver:
         self.vpres = b["vpres"].copy()
         self.gravity = np.asarray(model.gravity, float).copy()
         self.load_factor = 1.0
+        self.work = np.zeros(1)   # work done on the model since the start
+        self.energy_in = None     # initial kinetic energy + work (set at the first step)
         self.velocity_factor = 1.0
         self._ramp = 0.0          # velocity-factor increment per step
         self.step = 0
@@ -142,6 +144,9 @@ class Solver:
         b = self.b
         j, br = b["joints"], b["bearings"]
         hist = np.empty((nsteps, 2 + 2 * self.ngrp))
+        if self.energy_in is None:
+            free = self.fixed == 0
+            self.energy_in = float(0.5 * np.sum((self.mass[:, None] * self.v ** 2)[free]))
         status, done = K.run_chunk_entry(
             b["zlaw"], b["jlaw"], nsteps, self.dt, self.alpha, self.load_factor,
             self.velocity_factor, self._ramp, self.gravity,
@@ -150,7 +155,7 @@ class Solver:
             b["zp"], self.zs, self.stress,
             j["nodes"], j["cnt"], j["w"], j["axes"], j["area"], j["par"], self.js,
             br["nodes"], br["cnt"], br["w"], br["axes"], br["area"], br["par"], self.bs,
-            b["mon_nodes"], b["mon_dir"], b["mon_grp"], hist, *self._scratch)
+            b["mon_nodes"], b["mon_dir"], b["mon_grp"], hist, self.work, *self._scratch)
         hist = hist[:done]
         self.velocity_factor = min(1.0, self.velocity_factor + done * self._ramp)
         for g in range(self.ngrp):
@@ -196,8 +201,12 @@ class Solver:
         ramp_steps: the prescribed velocities grow linearly from zero to their
         full value over the first ``ramp_steps`` steps of this run.
         Peaks (``history.peak``) are those of this run.
-        * the divergence guard: non-finite values, or a node moving more
-          than 10 % of the smallest zone size in one step ('diverged').
+        * the divergence guard ('diverged'): non-finite values; a node
+          moving more than 10 % of the smallest zone size in one step; an
+          energy blow-up (kinetic energy above 10 times the energy put in:
+          the initial kinetic energy plus the work of reactions and applied
+          forces); in quasi-static mode, an unbalanced-force ratio above 10
+          for 5 chunks in a row.
         ``progress(solver)`` is called after every chunk."""
         t0 = time.perf_counter()
         g = self.monitor_index(monitor) if monitor is not None else None
@@ -211,6 +220,7 @@ class Solver:
             self.velocity_factor, self._ramp = 1.0, 0.0
         status, message = "max_steps", f"reached {max_steps} steps"
         chunks = 0
+        high_ratio = 0
         while self.step - start < max_steps:
             chunks += 1
             n = min(self.chunk, max_steps - (self.step - start))
@@ -225,6 +235,18 @@ class Solver:
             if vmax > 0.1 * self.h_min:
                 status, message = "diverged", (f"a node moved {vmax:.3g} m in one step (> 10% of the "
                                                f"smallest zone, {self.h_min:.3g} m) at step {self.step}, "
+                                               f"starting at {self._diverged_where()}")
+                break
+            ke, energy_in = self.last[1], self.energy_in + self.work[0]
+            if ke > 10.0 * max(energy_in, 0.0):
+                status, message = "diverged", (f"energy blow-up: kinetic energy {ke:.3g} J exceeds 10 x "
+                                               f"the energy put in ({energy_in:.3g} J) at step {self.step}, "
+                                               f"starting at {self._diverged_where()}")
+                break
+            high_ratio = high_ratio + 1 if self.mode == QUASI_STATIC and self.last[0] > 10 else 0
+            if high_ratio >= 5:
+                status, message = "diverged", (f"unbalanced-force ratio above 10 for 5 chunks "
+                                               f"({self.last[0]:.3g} at step {self.step}), "
                                                f"starting at {self._diverged_where()}")
                 break
             if chunks % 20 == 0 and (rot := self.max_rotation()) > self.rotation_limit:

@@ -83,7 +83,7 @@ def build(spec: WalletteSpec):
                 for i, x in enumerate(spec.supports_x)]
     loads = [m.add_strip(f"load{i}", 1, 0.0, -1, ((0.0, Htot), (x - w, x + w)), ks)
              for i, x in enumerate(spec.loads_x)]
-    m.add_monitor("load", [s.node for s in loads], 1)
+    m.add_monitor("load", loads, 1)
     if spec.precompression:
         top_x = (-1.0, spec.units_per_course * L + L)
         m.add_pressure(2, Htot, +1, (top_x, (-1.0, T + 1.0)), spec.precompression)
