@@ -304,7 +304,7 @@ def _tet_forces(t, w, sxx, syy, szz, sxy, syz, szx, tets, dn, f):
     f[n0, 2] += f1z + f2z + f3z
 
 
-@njit(**_CACHE)
+@njit(**_INLINE)
 def zone_forces(zlaw, dt, v, f, x0, tets, dn, vol, wt, gptr, gnodes, gnptr,
                 zp, zs, stress, de, ev_, pending, a, evec):
     """Adds the zones' nodal forces to ``f``.
@@ -499,7 +499,7 @@ def joint_brittle_coulomb(s, jp, js, dun, dus1, dus2):
         js[s, JS_D] = 1.0
 
 
-@njit(**_CACHE)
+@njit(**_INLINE)
 def contact_forces(jlaw, dt, v, f, nodes, cnt, w, axes, area, jp, js):
     """Adds the forces of the sub-contacts to ``f``.
 
