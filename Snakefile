@@ -9,10 +9,11 @@ validate(config, "config/schema.yaml", set_default=True)
 
 
 include: "workflow/rules/common.smk"
-include: "workflow/rules/reference.smk"
+include: "workflow/rules/validation.smk"
+include: "workflow/rules/pictures.smk"
 
 
 rule all:
     default_target: True
     input:
-        get_reference_outputs(),
+        get_validation_outputs(),

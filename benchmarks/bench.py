@@ -24,17 +24,19 @@ import numpy as np  # noqa: E402
 
 from masonrydem import Solver  # noqa: E402
 from masonrydem import kernels as K  # noqa: E402
-from masonrydem.wallette import WalletteSpec, build  # noqa: E402
+from masonrydem.scene import build, load_scene  # noqa: E402
+
+SCENE = "config/scenes/willis.yaml"
 
 FRESH = """
 import time, sys
 t0 = time.perf_counter()
 import masonrydem
 from masonrydem import Solver
-from masonrydem.wallette import WalletteSpec, build
+from masonrydem.scene import build, load_scene
 t1 = time.perf_counter()
-m, h = build(WalletteSpec(courses=2, cells=(1, 1, 1)))
-s = Solver(m)
+sp = build(load_scene("config/scenes/willis.yaml", ["geometry.courses=2", "numerics.cells=[1, 1, 1]"]))
+s = Solver(sp.model)
 t2 = time.perf_counter()
 s.cycle(1)
 t3 = time.perf_counter()
@@ -63,10 +65,9 @@ def best_of(fn, n, repeat=5):
 def main():
     fresh_process_times(1)          # make sure the cache is warm
     import_s, load_s = fresh_process_times()
-    spec = WalletteSpec()
-    m, h = build(spec)
-    s = Solver(m, chunk=500)
-    for st in h["loads"]:
+    sp = build(load_scene(SCENE))
+    s = Solver(sp.model, chunk=500)
+    for st in sp.loads:
         s.set_strip_velocity(st, [0.0, 5e-8, 0.0])
     s.run(6000)                     # past the peak: cracked zones, damaged joints
     b = s.b

@@ -5,7 +5,7 @@ import pytest
 
 from masonrydem import Elastic, InputError, JointProps, Model, MohrCoulomb, Solver
 from masonrydem import kernels as K
-from masonrydem.wallette import WalletteSpec, build
+from masonrydem.scene import build, validate_scene
 
 JP = JointProps(kn=1e11, ks=4e10, ft=0.3e6, c=0.36e6, phi=35.0, GI=9.0, GII=90.0)
 
@@ -18,7 +18,7 @@ def test_wallette_joints_and_areas(cells):
     sub-contact areas sum to its overlap area exactly (1e-12), also where
     the meshes do not conform (3 or 5 cells along a unit shifted by half a
     unit), and the total is 18 x 75 x 114 + 5 x 840 x 114 mm^2."""
-    m, _ = build(WalletteSpec(cells=cells))
+    m = build(validate_scene({"name": "t", "numerics": {"cells": list(cells)}})).model
     b = m.build()
     head = [c for c in m.contacts if c.axis == 0]
     bed = [c for c in m.contacts if c.axis == 2]

@@ -30,8 +30,10 @@ class RunResult:
 
 @dataclass
 class History:
-    """Decimated histories (every ``every`` steps, all runs) and the exact
-    peaks of the current (last) run, i.e. of the current loading stage."""
+    """Decimated histories (every ``every`` steps, all runs, plus each
+    chunk's row of maximum load, so that the exact peak is a recorded row)
+    and the exact peaks of the current (last) run, i.e. of the current
+    loading stage."""
     every: int
     rows: list = field(default_factory=list)
     peak: dict = field(default_factory=dict)       # group -> (load, disp, step)
@@ -171,6 +173,8 @@ class Solver:
         idx = np.arange(self.step, self.step + hist.shape[0])
         keep = (idx + 1) % h.every == 0
         keep[-1] = True
+        for g in range(self.ngrp):      # keep each chunk's peak: the run's peak is a recorded row
+            keep[int(np.argmax(hist[:, 2 + 2 * g]))] = True
         h.rows.append(np.column_stack([idx[keep] + 1, hist[keep]]))
         for g in range(self.ngrp):
             i = int(np.argmax(hist[:, 2 + 2 * g]))

@@ -1,15 +1,28 @@
-import hashlib
-from pathlib import Path
+import masonrydem
 
 
 def get_solver_hash():
     """Hash of the solver's source: a param of every simulation rule, so that
     a change to src/ reruns the simulations (Snakemake does not track it)."""
-    h = hashlib.sha256()
-    for p in sorted(Path(workflow.basedir, "src", "masonrydem").glob("*.py")):
-        h.update(p.read_bytes())
-    return h.hexdigest()[:16]
+    return masonrydem.source_hash()
 
 
-def get_reference_outputs():
-    return expand("results/reference/sv{sv}.json", sv=config["reference"]["precompression_mpa"])
+def get_validation_runs():
+    v = config["validation"]
+    return [f"{case}_sv{sv}" for case in v["cases"] for sv in v["precompression_mpa"]]
+
+
+def get_validation_overrides(wildcards):
+    """Scene overrides of one validation run: its case's plus the
+    precompression."""
+    overrides = list(config["validation"]["cases"][wildcards.case])
+    return overrides + [f"loading.precompression.pressure={float(wildcards.sv) * 1e6}"]
+
+
+def get_validation_outputs():
+    v = config["validation"]
+    return (
+        ["results/validation/summary.csv", "results/validation/load_displacement.png",
+         "results/validation/model_numbering.png"]
+        + expand("results/validation/damage_{run}.png", run=v["pictures"])
+    )

@@ -1,0 +1,80 @@
+"""Failure classification of a wallette run (study.md, 6), automatic and
+explained.
+
+A cell (hexahedron of a unit) is cracked when the volume-weighted mean
+tensile damage of its 10 zones reaches ``crack_damage``.  A unit is cracked
+through when, along one of its axes, a layer of cells is at least
+``crack_through`` cracked (a crack across the unit).  The run is a "brick"
+failure when at least one unit is cracked through, otherwise a "joint"
+failure (separation and/or sliding of joints).  A joint (contact plane) is
+broken when its area-weighted mean damage reaches ``broken_joint_damage``.
+"""
+import numpy as np
+
+from . import kernels as K
+
+
+def cell_damage(specimen, solver):
+    """Per unit: array (nx, ny, nz) of cell damage (volume-weighted mean
+    tensile damage of the cell's 10 tetrahedra) and the cell volumes."""
+    b = solver.b
+    d = solver.zone_damage()
+    wv = b["vol"] * b["wt"]
+    out = []
+    start = 0
+    for blk in specimen.model.blocks:
+        nt = blk.mesh.tets.shape[0]
+        nx, ny, nz = blk.cells
+        w = wv[start:start + nt].reshape(-1, 10)
+        dc = (d[start:start + nt].reshape(-1, 10) * w).sum(axis=1) / w.sum(axis=1)
+        out.append((dc.reshape((nx, ny, nz), order="F"), w.sum(axis=1).reshape((nx, ny, nz), order="F")))
+        start += nt
+    return out
+
+
+def joint_damage(specimen, solver):
+    """Area-weighted mean damage D of each joint (contact plane)."""
+    area = solver.b["joints"]["area"]
+    D = solver.js[:, K.JS_D]
+    num = np.zeros(len(specimen.joints))
+    den = np.zeros(len(specimen.joints))
+    for c, j in zip(specimen.model.contacts, specimen.contact_joint):
+        num[j] += np.sum(D[c.sc] * area[c.sc])
+        den[j] += np.sum(area[c.sc])
+    return num / np.where(den > 0, den, 1.0)
+
+
+def classify(specimen, solver, crack_damage=0.5, crack_through=0.5, broken_joint_damage=0.5):
+    """Returns a dict: failure_mode ('brick' or 'joint'), the evidence
+    columns and a one-line explanation."""
+    cells = cell_damage(specimen, solver)
+    fractions = []
+    cracked_vol = 0.0
+    total_vol = 0.0
+    for dc, vol in cells:
+        cracked = dc >= crack_damage
+        cracked_vol += vol[cracked].sum()
+        total_vol += vol.sum()
+        layer = max(cracked.mean(axis=tuple(a for a in range(3) if a != ax)).max() for ax in range(3))
+        fractions.append(float(layer))
+    fractions = np.array(fractions)
+    through = np.flatnonzero(fractions >= crack_through)
+    jd = joint_damage(specimen, solver)
+    broken = np.flatnonzero(jd >= broken_joint_damage)
+    mode = "brick" if through.size else "joint"
+    if through.size:
+        why = (f"brick failure: unit(s) {', '.join(str(u + 1) for u in through)} cracked through "
+               f"(a layer of cells at least {crack_through:.0%} cracked; largest {fractions.max():.0%})")
+    else:
+        why = (f"joint failure: no unit cracked through (largest cracked layer "
+               f"{fractions.max():.0%} < {crack_through:.0%})")
+    why += f"; {broken.size} of {jd.size} joints broken (mean damage >= {broken_joint_damage})"
+    return dict(
+        failure_mode=mode,
+        cracked_units=int(through.size),
+        unit_crack_fraction=float(fractions.max()) if fractions.size else 0.0,
+        cracked_brick_volume_frac=float(cracked_vol / total_vol) if total_vol else 0.0,
+        broken_joints=int(broken.size),
+        n_joints=int(jd.size),
+        classification=why,
+    )

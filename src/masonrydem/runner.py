@@ -1,0 +1,135 @@
+"""One simulation of a scene: precompression, then displacement-controlled
+bending; the result row, the curve and (on request) the final state.
+
+Nothing is lost: a run that fails or diverges still yields its row, with
+its status and message.  Outputs are written to temporary files and renamed
+(atomic).
+"""
+import math
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from . import __version__, source_hash
+from .classify import classify
+from .scene import build, strength
+from .solver import Solver
+
+GOOD = ("load_drop", "displacement_limit")
+DROP_WINDOW = 1e-4   # m: 'drop_after_peak' is the load lost within this displacement after the peak
+
+
+class Progress:
+    """Prints step, load, displacement and ratio every ``every`` seconds."""
+
+    def __init__(self, stage, u0=0.0, every=2.0, stream=sys.stderr):
+        self.stage, self.u0, self.every, self.stream = stage, u0, every, stream
+        self.t0 = self.last = time.perf_counter()
+
+    def __call__(self, s):
+        now = time.perf_counter()
+        if now - self.last < self.every:
+            return
+        self.last = now
+        P, u = (s.last[2], s.last[3]) if s.ngrp else (0.0, 0.0)
+        print(f"[{self.stage}] step {s.step:8d}  load {P / 1e3:8.3f} kN  disp {(u - self.u0) * 1e3:7.4f} mm"
+              f"  ratio {s.last[0]:.2e}  ({now - self.t0:.0f} s)", file=self.stream, flush=True)
+
+
+def downsample(disp, load, n):
+    """About n points evenly spaced along the curve's steps, always keeping
+    the first, the last and the peak."""
+    idx = np.unique(np.concatenate([np.linspace(0, disp.size - 1, n).round().astype(int),
+                                    [int(np.argmax(load))]]))
+    return idx
+
+
+def inputs_row(specimen):
+    """The inputs that vary in the study (field means for spatial ones)."""
+    sc = specimen.scene
+    return dict(
+        scene=sc["name"],
+        sigma_v_mpa=sc["loading"]["precompression"]["pressure"] / 1e6,
+        E_b_mpa=float(np.mean(specimen.E_b)) / 1e6,
+        f_tu_mpa=float(np.mean(specimen.f_tu)) / 1e6,
+        f_tj_mpa=float(np.mean(specimen.f_tj)) / 1e6,
+        phi_j_deg=float(np.mean(specimen.phi_j)),
+    )
+
+
+def run_scene(scene, progress=True):
+    """Runs a validated scene.  Returns (row, curve, specimen, solver)."""
+    t0 = time.perf_counter()
+    specimen = build(scene)
+    num, load = scene["numerics"], scene["loading"]
+    s = Solver(specimen.model, damping=num["damping"], safety=num["safety"],
+               record_every=num["record_every"], chunk=500)
+    row = inputs_row(specimen)
+    pre_status = "none"
+    res = None
+    if load["precompression"]["pressure"] > 0:
+        pre = load["precompression"]
+        res = s.run(pre["max_steps"], ratio_tol=pre["ratio_tol"],
+                    progress=Progress("precompression") if progress else None)
+        pre_status = res.status
+    u0 = float(s.last[3])
+    start = s.step
+    if res is None or res.status in ("converged", "max_steps"):
+        bend = load["bending"]
+        for strip in specimen.loads:
+            s.set_strip_velocity(strip, [0.0, bend["rate"], 0.0])
+        res = s.run(bend["max_steps"], disp_limit=u0 + bend["max_displacement"], load_drop=bend["load_drop"],
+                    monitor="load", ramp_steps=bend["ramp_steps"],
+                    progress=Progress("bending", u0) if progress else None)
+    H = s.history.array()
+    H = H[H[:, 0] > start] if H.size else np.zeros((0, 5))
+    peak_P, peak_u, peak_step = s.history.peak.get(0, (math.nan, math.nan, -1))
+    after = H[(H[:, 4] >= peak_u) & (H[:, 4] <= peak_u + DROP_WINDOW)] if H.size else H
+    drop = 1.0 - after[:, 3].min() / peak_P if after.size and peak_P > 0 else math.nan
+    if H.shape[0]:
+        idx = downsample(H[:, 4], H[:, 3], scene["outputs"]["curve_points"])
+        H = H[idx]
+    curve = pd.DataFrame(dict(step=H[:, 0].astype(np.int64), displacement_mm=(H[:, 4] - u0) * 1e3,
+                              load_kN=H[:, 3] / 1e3, ratio=H[:, 1]))
+    out = scene["outputs"]
+    row.update(
+        P_max_kN=peak_P / 1e3,
+        disp_at_peak_mm=(peak_u - u0) * 1e3,
+        strength_mpa=strength(peak_P, specimen) / 1e6,
+        **classify(specimen, s, out["crack_damage"], out["crack_through"], out["broken_joint_damage"]),
+        drop_after_peak=drop,
+        status=res.status,
+        ok=res.status in GOOD,
+        message=res.message,
+        precompression_status=pre_status,
+        steps=int(s.step),
+        peak_step=int(peak_step),
+        max_rotation_rad=s.max_rotation(),
+        wall_time_s=time.perf_counter() - t0,
+        solver_version=f"{__version__}+{source_hash()}",
+    )
+    return row, curve, specimen, s
+
+
+def _atomic(path, write):
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
+    write(tmp)
+    os.replace(tmp, path)
+
+
+def write_outputs(out_dir, row, curve, specimen=None, solver=None, state=False):
+    """DIR/result.parquet (one row), DIR/curve.parquet and, with ``state``,
+    DIR/state.vtm (the final state, deformed mesh with zone and joint
+    damage)."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    _atomic(out_dir / "result.parquet", lambda p: pd.DataFrame([row]).to_parquet(p, index=False))
+    _atomic(out_dir / "curve.parquet", lambda p: curve.to_parquet(p, index=False))
+    if state:   # a .vtm is an index plus a folder of pieces: written last
+        from .viz import state_blocks
+        state_blocks(specimen, solver).save(str(out_dir / "state.vtm"))

@@ -1,0 +1,269 @@
+"""Scenes: a specimen described in YAML, validated before anything runs,
+and built into a Model.
+
+A scene (schema: scene_schema.yaml, defaults = the Willis wallette of
+study.md) declares geometry, physics, materials, loading, numerics and
+outputs.  ``load_scene`` reads it, applies ``--set`` overrides and checks it;
+every error names the field (a dotted path) and the reason.
+"""
+import copy
+import re
+from dataclasses import dataclass
+from importlib import resources
+
+import numpy as np
+import yaml
+from jsonschema import Draft202012Validator, validators
+
+from .errors import InputError
+from .laws import Elastic, JointProps, MohrCoulomb
+from .model import GEOM_TOL, Model
+
+
+
+class _Loader(yaml.SafeLoader):
+    """YAML loader that also reads 15e9 or 0.3e6 as floats (YAML 1.1, and so
+    PyYAML, wants 15.0e+9)."""
+
+
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)\.[0-9_]*(?:[eE][-+]?[0-9]+)?
+                   |[-+]?(?:[0-9][0-9_]*)(?:[eE][-+]?[0-9]+)
+                   |\.[0-9_]+(?:[eE][-+]?[0-9]+)?
+                   |[-+]?\.(?:inf|Inf|INF)
+                   |\.(?:nan|NaN|NAN))$""", re.X),
+    list("-+0123456789."))
+
+
+def read_yaml(text):
+    return yaml.load(text, Loader=_Loader)
+
+
+SCHEMA = read_yaml(resources.files(__package__).joinpath("scene_schema.yaml").read_text())
+
+
+def _with_defaults(cls):
+    """A validator that fills in the schema's defaults while validating
+    (the jsonschema FAQ recipe)."""
+    validate_props = cls.VALIDATORS["properties"]
+
+    def set_defaults(validator, properties, instance, schema):
+        if isinstance(instance, dict):
+            for key, sub in properties.items():
+                if "default" in sub and key not in instance:
+                    instance[key] = copy.deepcopy(sub["default"])
+        yield from validate_props(validator, properties, instance, schema)
+
+    return validators.extend(cls, {"properties": set_defaults})
+
+
+_Validator = _with_defaults(Draft202012Validator)
+
+
+def _path(error):
+    return ".".join(str(p) for p in error.absolute_path) or "scene"
+
+
+def validate_scene(scene):
+    """Fills defaults in place and checks the scene; raises InputError naming
+    the first offending field."""
+    if not isinstance(scene, dict):
+        raise InputError("scene", "must be a mapping")
+    errors = sorted(_Validator(SCHEMA).iter_errors(scene), key=lambda e: list(e.absolute_path))
+    if errors:
+        e = errors[0]
+        raise InputError(_path(e), e.message)
+    g = scene["geometry"]
+    n_units = g["courses"] * g["units_per_course"]
+    n_joints = len(running_bond_joints(g["courses"], g["units_per_course"]))
+    for key, n, what in (("per_unit", n_units, "units"), ("per_joint", n_joints, "joints")):
+        for name, values in scene["materials"].get(key, {}).items():
+            if isinstance(values, list) and len(values) != n:
+                raise InputError(f"materials.{key}.{name}",
+                                 f"needs one value per {what[:-1]} ({n} {what}), got {len(values)}")
+    length = _unit_size(scene)[0] * (g["units_per_course"] + (g["bond_offset"] if g["courses"] > 1 else 0))
+    bend = scene["loading"]["bending"]
+    for key in ("supports_x", "loads_x"):
+        for i, x in enumerate(bend[key]):
+            if not (0.5 * bend["strip_width"] <= x <= length - 0.5 * bend["strip_width"]):
+                raise InputError(f"loading.bending.{key}.{i}",
+                                 f"{x} m is outside the wall (0 to {length:.4g} m)")
+    return scene
+
+
+def _set(scene, dotted, value):
+    keys = dotted.split(".")
+    node = scene
+    for k in keys[:-1]:
+        if not isinstance(node, dict):
+            raise InputError(dotted, f"{k!r} is not a section")
+        node = node.setdefault(k, {})
+    node[keys[-1]] = value
+
+
+def apply_overrides(scene, overrides):
+    """``overrides``: strings 'path.to.key=value' (value parsed as YAML)."""
+    for item in overrides or ():
+        if "=" not in item:
+            raise InputError("--set", f"expected path.to.key=value, got {item!r}")
+        key, raw = item.split("=", 1)
+        _set(scene, key.strip(), read_yaml(raw))
+    return scene
+
+
+def load_scene(path, overrides=()):
+    try:
+        with open(path) as f:
+            scene = read_yaml(f.read())
+    except OSError as e:
+        raise InputError("scene", f"cannot read {path}: {e.strerror}") from None
+    except yaml.YAMLError as e:
+        raise InputError("scene", f"{path} is not valid YAML: {e}") from None
+    return validate_scene(apply_overrides(scene, overrides))
+
+
+# =============================================================================
+# Running bond
+# =============================================================================
+def _unit_size(scene):
+    """Modelled unit (brick + half a joint on each side in length and
+    height; no joint through the thickness): (length, width, height)."""
+    u, t = scene["geometry"]["unit"], scene["geometry"]["joint_thickness"]
+    return u["length"] + t, u["width"], u["height"] + t
+
+
+def running_bond_joints(courses, per_course):
+    """Joints numbered as contact planes: the head joints course by course
+    (per_course - 1 per course), then one bed-joint plane under each unit
+    of courses 1.. (a plane may touch one or two units below).  Returns a
+    list of (kind, unit) with unit = (course, index) of the unit to the
+    left of a head joint or above a bed plane."""
+    head = [("head", (k, i)) for k in range(courses) for i in range(per_course - 1)]
+    bed = [("bed", (k, i)) for k in range(1, courses) for i in range(per_course)]
+    return head + bed
+
+
+@dataclass
+class Specimen:
+    """What ``build`` returns beside the model."""
+    model: Model
+    scene: dict
+    units: list            # (course, index) of block id i
+    joints: list           # (kind, (course, index)) of joint j
+    contact_joint: np.ndarray   # joint number of each model contact
+    loads: list
+    supports: list
+    E_b: np.ndarray        # per unit
+    f_tu: np.ndarray
+    f_tj: np.ndarray       # per joint
+    phi_j: np.ndarray
+
+    @property
+    def shear_span(self):
+        b = self.scene["loading"]["bending"]
+        return min(b["loads_x"]) - min(b["supports_x"])
+
+
+def _per(values, n, default):
+    return np.asarray(values, float) if values is not None else np.full(n, float(default))
+
+
+def joint_kn(E_b, Em_ratio, t):
+    """k_n = E_b E_m / (t (E_b - E_m)), E_m = Em_ratio E_b (study.md, 3)."""
+    E_m = Em_ratio * E_b
+    return E_b * E_m / (t * (E_b - E_m))
+
+
+def build(scene):
+    """Builds the specimen of a validated scene: units, joints with their
+    properties, supports and load strips, precompression."""
+    g, mat, phys = scene["geometry"], scene["materials"], scene["physics"]
+    L, T, H = _unit_size(scene)
+    nk, nu = g["courses"], g["units_per_course"]
+    mu, mj = mat["units"], mat["joints"]
+    per_u, per_j = mat.get("per_unit", {}), mat.get("per_joint", {})
+    n_units = nk * nu
+    E_b = _per(per_u.get("E"), n_units, mu["E"])
+    f_tu = _per(per_u.get("ft"), n_units, mu["ft"])
+    joints = running_bond_joints(nk, nu)
+    f_tj = _per(per_j.get("ft"), len(joints), mj["ft"])
+    phi_j = _per(per_j.get("phi"), len(joints), mj["phi"])
+
+    m = Model()
+    units = []
+    for k in range(nk):
+        x0 = g["bond_offset"] * L if k % 2 else 0.0
+        for i in range(nu):
+            uid = len(units)
+            Gf = mu["Gf"]
+            if "gf_coefficient" in per_u:   # N/mm with f in MPa -> N/m
+                Gf = 1e3 * per_u["gf_coefficient"] * (f_tu[uid] / 1e6) ** per_u["gf_exponent"]
+            if phys["blocks"] == "elastic":
+                material = Elastic(E=E_b[uid], nu=mu["nu"], density=mu["density"])
+            else:
+                material = MohrCoulomb(E=E_b[uid], nu=mu["nu"], density=mu["density"], ft=f_tu[uid],
+                                       c=mu["c_ratio"] * f_tu[uid], phi=mu["phi"], Gf=Gf)
+            m.add_box([x0 + i * L, 0.0, k * H], [x0 + (i + 1) * L, T, (k + 1) * H],
+                      scene["numerics"]["cells"], material)
+            units.append((k, i))
+
+    def joint_of(a, b):
+        """Joint number of the contact between blocks a and b."""
+        (ka, ia), (kb, ib) = units[a.id], units[b.id]
+        if ka == kb:
+            return joints.index(("head", (ka, min(ia, ib))))
+        upper = units[a.id] if ka > kb else units[b.id]
+        return joints.index(("bed", upper))
+
+    t = g["joint_thickness"]
+    if t <= 0:
+        raise InputError("geometry.joint_thickness", "must be positive to give the joints a stiffness")
+
+    def props(a, b):
+        """A joint's stiffness follows the mean E_b of the two units it
+        connects; its strength and fracture energies follow its f_tj."""
+        j = joint_of(a, b)
+        kn = joint_kn(0.5 * (E_b[a.id] + E_b[b.id]), mj["Em_ratio"], t)
+        ft = f_tj[j]
+        GI = per_j["gi_per_ft"] * ft if "ft" in per_j else mj["GI"]
+        return JointProps(kn=kn, ks=mj["ks_ratio"] * kn, ft=ft, c=mj["c_ratio"] * ft, phi=phi_j[j],
+                          GI=GI, GII=mj["GII_ratio"] * GI)
+
+    m.set_joints(phys["joints"], props, refine=scene["numerics"]["subcontact_refine"])
+    bend = scene["loading"]["bending"]
+    # base: roller (z fixed); x fixed at one base point, the node nearest the
+    # span centre at mid-thickness (the least restraint: a line of x-fixed
+    # nodes would add stiffness, and on a head joint would pin it shut);
+    # y is held by the strips
+    base = m.select(lambda x: x[:, 2] < GEOM_TOL)
+    m.fix(base, dofs=[2])
+    centre = np.array([np.mean(bend["supports_x"]), 0.5 * T, 0.0])
+    m.fix(base[np.argmin(np.linalg.norm(m.x0[base] - centre, axis=1))], dofs=[0])
+    w = 0.5 * bend["strip_width"]
+    ks = bend["strip_stiffness_ratio"] * joint_kn(float(np.mean(E_b)), mj["Em_ratio"], t)
+    Htot = nk * H
+    # strips on planes normal to y: plane coordinates (p, q) = (z, x)
+    supports = [m.add_strip(f"support{i}", 1, T, +1, ((0.0, Htot), (xs - w, xs + w)), ks)
+                for i, xs in enumerate(bend["supports_x"])]
+    loads = [m.add_strip(f"load{i}", 1, 0.0, -1, ((0.0, Htot), (xl - w, xl + w)), ks)
+             for i, xl in enumerate(bend["loads_x"])]
+    m.add_monitor("load", loads, 1)
+    p = scene["loading"]["precompression"]["pressure"]
+    if p:
+        m.add_pressure(2, Htot, +1, ((-1.0, (nu + 1) * L), (-1.0, T + 1.0)), p)
+    if phys["gravity"]:
+        m.gravity = np.array([0.0, 0.0, -9.81])
+    m.build()
+    contact_joint = np.array([joint_of(m.blocks[c.block_a], m.blocks[c.block_b]) for c in m.contacts])
+    missing = sorted(set(range(len(joints))) - set(contact_joint.tolist()))
+    if missing:
+        raise InputError("geometry", f"joints {missing} touch no unit pair; check the bond")
+    return Specimen(m, scene, units, joints, contact_joint, loads, supports, E_b, f_tu, f_tj, phi_j)
+
+
+def strength(P, specimen):
+    """Flexural strength sigma = 6 M / (b h^2), M = P/2 a (study.md, 2)."""
+    b = specimen.scene["loading"]["bending"]["section_height"]
+    h = specimen.scene["geometry"]["unit"]["width"]
+    return 6.0 * (0.5 * specimen.shear_span * P) / (b * h * h)

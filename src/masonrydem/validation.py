@@ -1,0 +1,56 @@
+"""Deterministic validation of the wallette (study.md, 4): peaks, initial
+stiffness, and the sensitivity of the peak to the loading rate and to the
+mesh."""
+import numpy as np
+import pandas as pd
+
+
+def initial_stiffness(curve, lo=0.1, hi=0.4):
+    """Slope (kN/mm) of a straight line fitted to the pre-peak points of the
+    load-displacement curve between lo and hi times the peak load."""
+    ipk = int(np.argmax(curve["load_kN"].to_numpy()))
+    pre = curve.iloc[: ipk + 1]
+    P, u = pre["load_kN"].to_numpy(), pre["displacement_mm"].to_numpy()
+    sel = (P >= lo * P.max()) & (P <= hi * P.max())
+    if sel.sum() < 2:
+        return np.nan
+    return float(np.polyfit(u[sel], P[sel], 1)[0])
+
+
+def summary_table(results, curves):
+    """One row per run ('<case>_sv<sigma_v>'), with the change of P_max
+    against the 'reference' case at the same precompression."""
+    rows = []
+    for run, r in results.items():
+        case = run.rsplit("_sv", 1)[0]
+        rows.append(dict(run=run, case=case, sigma_v_mpa=r["sigma_v_mpa"], P_max_kN=r["P_max_kN"],
+                         disp_at_peak_mm=r["disp_at_peak_mm"], strength_mpa=r["strength_mpa"],
+                         initial_stiffness_kN_per_mm=initial_stiffness(curves[run]),
+                         failure_mode=r["failure_mode"], status=r["status"], steps=r["steps"],
+                         wall_time_s=r["wall_time_s"], classification=r["classification"]))
+    t = pd.DataFrame(rows).sort_values(["sigma_v_mpa", "case"]).reset_index(drop=True)
+    ref = t[t.case == "reference"].set_index("sigma_v_mpa")["P_max_kN"]
+    t["P_max_change_vs_reference_pct"] = [
+        100.0 * (p / ref[s] - 1.0) if s in ref.index else np.nan for p, s in zip(t.P_max_kN, t.sigma_v_mpa)]
+    return t
+
+
+def figure(table, curves, path):
+    import matplotlib.pyplot as plt
+    levels = sorted(table.sigma_v_mpa.unique())
+    fig, axes = plt.subplots(1, len(levels), figsize=(6 * len(levels), 4.5), squeeze=False)
+    style = {"reference": dict(color="k", lw=2), "half_rate": dict(color="tab:blue", ls="--"),
+             "refined": dict(color="tab:orange", ls=":"), "strong_joints": dict(color="tab:red", lw=1.5)}
+    for ax, sv in zip(axes[0], levels):
+        for _, r in table[table.sigma_v_mpa == sv].iterrows():
+            c = curves[r.run]
+            ax.plot(c.displacement_mm, c.load_kN, label=f"{r.case}: {r.P_max_kN:.2f} kN ({r.failure_mode})",
+                    **style.get(r.case, {}))
+        ax.set_title(f"sigma_v = {sv:g} MPa")
+        ax.set_xlabel("load-line displacement (mm)")
+        ax.set_ylabel("total load P (kN)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)

@@ -1,0 +1,70 @@
+"""`masonrydem run`: outputs, refusal of bad input, nothing lost."""
+import subprocess
+import sys
+
+import pandas as pd
+import pyvista as pv
+import pytest
+
+WILLIS = "config/scenes/willis.yaml"
+SMALL = ["--set", "numerics.cells=[2, 1, 1]", "--set", "loading.bending.rate=2e-7",
+         "--set", "loading.bending.ramp_steps=500"]
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-m", "masonrydem.cli", *args], capture_output=True, text=True)
+
+
+@pytest.fixture(scope="module")
+def run_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("run")
+    r = _cli("run", WILLIS, *SMALL, "--out", str(out), "--state")
+    assert r.returncode == 0, r.stderr
+    assert "[bending] step" in r.stderr or "load_drop" in r.stdout     # progress or at least the summary
+    return out
+
+
+def test_result_row(run_dir):
+    row = pd.read_parquet(run_dir / "result.parquet")
+    assert len(row) == 1
+    for col in ("sigma_v_mpa", "E_b_mpa", "f_tu_mpa", "f_tj_mpa", "phi_j_deg", "P_max_kN", "disp_at_peak_mm",
+                "strength_mpa", "failure_mode", "cracked_units", "unit_crack_fraction", "broken_joints",
+                "classification", "status", "steps", "wall_time_s", "solver_version"):
+        assert col in row.columns
+    r = row.iloc[0]
+    assert r["status"] == "load_drop" and r["ok"]
+    # sigma = 6 M / (b h^2), M = 0.1375 P (study.md, 2)
+    assert r["strength_mpa"] == pytest.approx(6 * 0.1375 * r["P_max_kN"] * 1e-3 / (0.44 * 0.114 ** 2), rel=1e-9)
+
+
+def test_curve_keeps_the_peak(run_dir):
+    row = pd.read_parquet(run_dir / "result.parquet").iloc[0]
+    curve = pd.read_parquet(run_dir / "curve.parquet")
+    assert 10 <= len(curve) <= 410
+    assert curve["load_kN"].max() == row["P_max_kN"]
+    assert curve["displacement_mm"].is_monotonic_increasing
+
+
+def test_state_is_readable(run_dir):
+    state = pv.read(run_dir / "state.vtm")
+    zones, joints = state["zones"], state["joints"]
+    assert zones.n_cells == 24 * 2 * 5 and set(zones.cell_data["unit"]) == set(range(1, 25))
+    assert 0 <= zones.cell_data["damage"].min() and zones.cell_data["damage"].max() <= 1
+    assert set(joints.point_data["joint"]) == set(range(1, 39))
+    assert "u" in zones.point_data
+
+
+def test_bad_input_refused_before_computation(tmp_path):
+    r = _cli("run", WILLIS, "--set", "materials.units.E=-1", "--out", str(tmp_path / "x"))
+    assert r.returncode == 2
+    assert "materials.units.E" in r.stderr
+    assert not (tmp_path / "x").exists()
+
+
+def test_failed_run_still_recorded(tmp_path):
+    """A run stopped by its step limit is recorded with its status, not
+    dropped (exit code 1)."""
+    r = _cli("run", WILLIS, *SMALL, "--set", "loading.bending.max_steps=300", "--quiet", "--out", str(tmp_path))
+    assert r.returncode == 1
+    row = pd.read_parquet(tmp_path / "result.parquet").iloc[0]
+    assert row["status"] == "max_steps" and not row["ok"]

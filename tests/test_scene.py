@@ -1,0 +1,89 @@
+"""Scenes: validation before any computation, overrides, numbering and the
+per-unit / per-joint properties."""
+import numpy as np
+import pytest
+
+from masonrydem import InputError
+from masonrydem import kernels as K
+from masonrydem.scene import build, joint_kn, load_scene, validate_scene
+
+WILLIS = "config/scenes/willis.yaml"
+
+
+def test_willis_scene_is_the_study_specimen():
+    """study.md 1-3: modelled unit 240 x 114 x 75 mm, 24 units, 38 joints,
+    wall 1080 x 114 x 450 mm, k_n = E_b E_m/(t(E_b - E_m)) = 166.7 GPa/m,
+    k_s = 0.4 k_n, shear span a = 275 mm."""
+    sp = build(load_scene(WILLIS))
+    x = sp.model.x0
+    assert np.ptp(x, axis=0) == pytest.approx([1.080, 0.114, 0.450])
+    assert len(sp.units) == 24 and len(sp.joints) == 38
+    kn = sp.model.build()["joints"]["par"][:, K.JP_KN]
+    np.testing.assert_allclose(kn, 15e9 * 1.5e9 / (0.01 * 13.5e9))
+    assert kn[0] == pytest.approx(166.7e9, rel=1e-3)
+    assert sp.shear_span == pytest.approx(0.275)
+
+
+@pytest.mark.parametrize("override, field", [
+    ("loading.bending.rate=-1", "loading.bending.rate"),
+    ("numerics.cells=[4, 2]", "numerics.cells"),
+    ("numerics.cells=[4, 0, 2]", "numerics.cells.1"),
+    ("materials.units.nu=0.5", "materials.units.nu"),
+    ("materials.units.E=0", "materials.units.E"),
+    ("materials.joints.phi=95", "materials.joints.phi"),
+    ("physics.joints=mohr", "physics.joints"),
+    ("geometry.courses=0", "geometry.courses"),
+    ("loading.bending.loads_x=[1.5]", "loading.bending.loads_x.0"),
+    ("materials.per_unit.E=[1.0e9, 2.0e9]", "materials.per_unit.E"),
+    ("numerics.celss=[4, 2, 2]", "numerics"),
+    ("outputs.crack_through=2", "outputs.crack_through"),
+])
+def test_bad_scene_refused_naming_the_field(override, field):
+    with pytest.raises(InputError) as e:
+        load_scene(WILLIS, [override])
+    assert e.value.field == field
+
+
+def test_overrides_parse_values():
+    sc = load_scene(WILLIS, ["materials.units.E=12e9", "numerics.cells=[2, 1, 1]", "name=x"])
+    assert sc["materials"]["units"]["E"] == 12e9 and sc["numerics"]["cells"] == [2, 1, 1]
+    with pytest.raises(InputError, match="--set"):
+        load_scene(WILLIS, ["numerics.cells"])
+
+
+def test_missing_scene_file_refused():
+    with pytest.raises(InputError, match="cannot read"):
+        load_scene("config/scenes/nope.yaml")
+
+
+def test_joint_numbering_and_per_joint_values():
+    """Head joints first (3 per course), then the bed-joint plane under each
+    unit of courses 1-5; a bed plane touching two lower units is one joint.
+    Per-joint f_tj reach exactly the sub-contacts of their joint."""
+    ft = np.linspace(0.1e6, 0.8e6, 38)
+    sc = validate_scene({"name": "t", "materials": {"per_joint": {"ft": ft.tolist()}}})
+    sp = build(sc)
+    m, par = sp.model, sp.model.build()["joints"]["par"]
+    for c, j in zip(m.contacts, sp.contact_joint):
+        ua, ub = sp.units[c.block_a], sp.units[c.block_b]
+        kind, unit = sp.joints[j]
+        if kind == "head":
+            assert ua[0] == ub[0] == unit[0] and min(ua[1], ub[1]) == unit[1]
+        else:
+            assert unit == max(ua, ub) and abs(ua[0] - ub[0]) == 1
+        np.testing.assert_allclose(par[c.sc, K.JP_FT], ft[j])
+        # G_I = 0.03 f_tj (N/mm, MPa) = 3e-5 f_tj (N/m, Pa): w_u = 2 G_I / f_t = 6e-5 m
+        np.testing.assert_allclose(par[c.sc, K.JP_WU], 6e-5)
+    counts = np.bincount(sp.contact_joint, minlength=38)
+    assert counts[:18].tolist() == [1] * 18
+    assert sorted(set(counts[18:].tolist())) == [1, 2]     # end units of odd courses touch one
+
+
+def test_joint_stiffness_follows_mean_unit_modulus():
+    """A joint's k_n uses the mean E_b of the two units it connects."""
+    E = np.where(np.arange(24) % 2, 10e9, 20e9)
+    sp = build(validate_scene({"name": "t", "materials": {"per_unit": {"E": E.tolist()}}}))
+    par = sp.model.build()["joints"]["par"]
+    for c in sp.model.contacts:
+        expected = joint_kn(0.5 * (E[c.block_a] + E[c.block_b]), 0.1, 0.01)
+        np.testing.assert_allclose(par[c.sc, K.JP_KN], expected)

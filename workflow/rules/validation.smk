@@ -1,0 +1,51 @@
+wildcard_constraints:
+    case="[A-Za-z0-9_]+",
+    sv="[0-9.]+",
+
+
+rule validation_run:
+    """One deterministic run of the scene."""
+    input:
+        scene=config["scene"],
+    output:
+        result="results/validation/runs/{case}_sv{sv}/result.parquet",
+        curve="results/validation/runs/{case}_sv{sv}/curve.parquet",
+        state="results/validation/runs/{case}_sv{sv}/state.vtm",
+    params:
+        overrides=get_validation_overrides,
+        solver=get_solver_hash(),
+    log:
+        "logs/validation/{case}_sv{sv}.log",
+    threads: 1
+    script:
+        "../scripts/validation_run.py"
+
+
+rule validation_summary:
+    """Peaks, initial stiffness, rate and mesh sensitivity; the
+    load-displacement figure."""
+    input:
+        results=expand("results/validation/runs/{run}/result.parquet", run=get_validation_runs()),
+        curves=expand("results/validation/runs/{run}/curve.parquet", run=get_validation_runs()),
+    output:
+        table=report("results/validation/summary.csv", caption="../report/validation_summary.rst",
+                     category="Validation"),
+        figure=report("results/validation/load_displacement.png",
+                      caption="../report/validation_figure.rst", category="Validation"),
+    log:
+        "logs/validation/summary.log",
+    script:
+        "../scripts/validation_summary.py"
+
+
+rule model_numbering:
+    """The model with its units and joints numbered."""
+    input:
+        scene=config["scene"],
+    output:
+        report("results/validation/model_numbering.png", caption="../report/model_numbering.rst",
+               category="3-D pictures"),
+    log:
+        "logs/validation/model_numbering.log",
+    script:
+        "../scripts/model_numbering.py"

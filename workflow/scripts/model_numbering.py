@@ -1,0 +1,12 @@
+"""The model with its units and joints numbered."""
+import sys
+
+sm = snakemake  # noqa: F821
+sys.stderr = sys.stdout = open(sm.log[0], "w")
+
+from masonrydem.scene import build, load_scene  # noqa: E402
+from masonrydem.viz import picture_numbering  # noqa: E402
+
+specimen = build(load_scene(sm.input.scene))
+picture_numbering(specimen, sm.output[0])
+print(f"{len(specimen.units)} units, {len(specimen.joints)} joints")
