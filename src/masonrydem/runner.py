@@ -78,7 +78,8 @@ def run_scene(scene, progress=True):
         pre_status = res.status
     u0 = float(s.last[3])
     start = s.step
-    if res is None or res.status in ("converged", "max_steps"):
+    bent = res is None or res.status in ("converged", "max_steps")
+    if bent:
         bend = load["bending"]
         for strip in specimen.loads:
             s.set_strip_velocity(strip, [0.0, bend["rate"], 0.0])
@@ -87,7 +88,8 @@ def run_scene(scene, progress=True):
                     progress=Progress("bending", u0) if progress else None)
     H = s.history.array()
     H = H[H[:, 0] > start] if H.size else np.zeros((0, 5))
-    peak_P, peak_u, peak_step = s.history.peak.get(0, (math.nan, math.nan, -1))
+    # no bending stage (the precompression failed): no peak
+    peak_P, peak_u, peak_step = s.history.peak.get(0) if bent and 0 in s.history.peak else (math.nan,) * 2 + (-1,)
     after = H[(H[:, 4] >= peak_u) & (H[:, 4] <= peak_u + DROP_WINDOW)] if H.size else H
     drop = 1.0 - after[:, 3].min() / peak_P if after.size and peak_P > 0 else math.nan
     if H.shape[0]:
