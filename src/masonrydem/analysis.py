@@ -1,0 +1,145 @@
+"""Analysis of the study's runs (study.md, 6): statistics, correlations,
+prediction equations and the design rules they are compared with.
+
+A runs table has one row per simulation with at least: variant, sigma_v_mpa,
+sample, failure_mode, ok (the run reached its stop criteria), P_max_kN,
+strength_mpa and the random inputs f_tj_mpa, f_tu_mpa, phi_j_deg, E_b_mpa.
+Runs that are not ``ok`` are excluded from every statistic and counted.
+"""
+import numpy as np
+import pandas as pd
+from sklearn.linear_model import LassoCV
+from sklearn.model_selection import KFold
+from sklearn.pipeline import make_pipeline
+from sklearn.preprocessing import StandardScaler
+
+INPUTS = ("f_tj_mpa", "f_tu_mpa", "phi_j_deg", "E_b_mpa")
+FEATURES = ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v")
+
+
+def _cov(x):
+    x = np.asarray(x, float)
+    return float(x.std(ddof=1) / x.mean()) if x.size > 1 else np.nan
+
+
+def statistics(runs):
+    """Mean, COV and count of P_max per variant, sigma_v and failure mode
+    (mode 'all' for all modes together), with the share of brick failures
+    and the number of runs excluded (not ok)."""
+    rows = []
+    for (variant, sv), g in runs.groupby(["variant", "sigma_v_mpa"]):
+        good = g[g.ok]
+        for mode in ("all", "joint", "brick"):
+            sel = good if mode == "all" else good[good.failure_mode == mode]
+            rows.append(dict(variant=variant, sigma_v_mpa=sv, mode=mode, count=len(sel),
+                             P_max_mean_kN=sel.P_max_kN.mean() if len(sel) else np.nan,
+                             P_max_cov=_cov(sel.P_max_kN),
+                             strength_mean_mpa=sel.strength_mpa.mean() if len(sel) else np.nan,
+                             brick_share=float((good.failure_mode == "brick").mean()) if len(good) else np.nan,
+                             excluded=int((~g.ok).sum())))
+    return pd.DataFrame(rows)
+
+
+def increase(stats, low=0.0, high=0.5):
+    """Relative increase of the mean P_max from sigma_v = low to high, per
+    variant and mode."""
+    s = stats.set_index(["variant", "mode", "sigma_v_mpa"]).P_max_mean_kN
+    out = []
+    for (variant, mode), g in s.groupby(level=[0, 1]):
+        g = g.droplevel([0, 1])
+        if low in g.index and high in g.index:
+            out.append(dict(variant=variant, mode=mode, increase=g[high] / g[low] - 1.0))
+    return pd.DataFrame(out)
+
+
+def running_mean(values):
+    """Mean of the first k values, k = 1..n (is the sample large enough?)."""
+    values = np.asarray(values, float)
+    return np.cumsum(values) / np.arange(1, values.size + 1)
+
+
+def correlations(runs, inputs=INPUTS):
+    """Pearson correlation of P_max with each random input, per variant,
+    sigma_v and mode ('all' included)."""
+    rows = []
+    for (variant, sv), g in runs[runs.ok].groupby(["variant", "sigma_v_mpa"]):
+        for mode in ("all", "joint", "brick"):
+            sel = g if mode == "all" else g[g.failure_mode == mode]
+            row = dict(variant=variant, sigma_v_mpa=sv, mode=mode, count=len(sel))
+            for name in inputs:
+                ok = len(sel) > 2 and sel[name].std() > 0 and sel.P_max_kN.std() > 0
+                row[name] = float(np.corrcoef(sel[name], sel.P_max_kN)[0, 1]) if ok else np.nan
+            rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def normalised_deviation(x):
+    """(x - mean) / mean."""
+    x = np.asarray(x, float)
+    return (x - x.mean()) / x.mean()
+
+
+# --- prediction equations -------------------------------------------------------
+def features(f_tu, f_tj, sigma_v):
+    """Feature matrix (f_tu, f_tj, f_tu^2, f_tj^2, sigma_v), MPa."""
+    f_tu, f_tj, sigma_v = (np.asarray(a, float) for a in (f_tu, f_tj, sigma_v))
+    return np.column_stack([f_tu, f_tj, f_tu ** 2, f_tj ** 2, sigma_v])
+
+
+def fit_equation(f_tu, f_tj, sigma_v, strength, seed=0):
+    """Lasso regression of the strength (MPa) on the features, the penalty
+    chosen by 5-fold cross-validation on the mean squared error
+    (scikit-learn LassoCV, features standardised).  Returns a dict with the
+    intercept and coefficients in original units, the chosen alpha, the
+    MAPE (%) and the fitted values."""
+    X = features(f_tu, f_tj, sigma_v)
+    y = np.asarray(strength, float)
+    model = make_pipeline(StandardScaler(), LassoCV(cv=KFold(5, shuffle=True, random_state=seed),
+                                                    random_state=seed, max_iter=100_000))
+    model.fit(X, y)
+    scaler, lasso = model[0], model[1]
+    coef = lasso.coef_ / scaler.scale_
+    intercept = float(lasso.intercept_ - np.sum(coef * scaler.mean_))
+    fitted = model.predict(X)
+    return dict(intercept=intercept, coef=dict(zip(FEATURES, coef.tolist())), alpha=float(lasso.alpha_),
+                mape=mape(y, fitted), fitted=fitted, n=int(y.size))
+
+
+def predict(eq, f_tu, f_tj, sigma_v):
+    return eq["intercept"] + features(f_tu, f_tj, sigma_v) @ np.array([eq["coef"][k] for k in FEATURES])
+
+
+def mape(y, yhat):
+    """Mean absolute percentage error (%)."""
+    y, yhat = np.asarray(y, float), np.asarray(yhat, float)
+    return float(100.0 * np.mean(np.abs((yhat - y) / y)))
+
+
+def equation_text(eq):
+    terms = " ".join(f"{'+' if c >= 0 else '-'} {abs(c):.4g} {k}" for k, c in eq["coef"].items() if c != 0)
+    return f"sigma = {eq['intercept']:.4g} {terms}  (MPa)"
+
+
+def lower_of_two(eq_joint, eq_brick, f_tu, f_tj, sigma_v):
+    """Predicted capacity: the lower of the two equations; the predicted
+    mode is that of the lower one.  Returns (strength, mode array)."""
+    j = predict(eq_joint, f_tu, f_tj, sigma_v)
+    b = predict(eq_brick, f_tu, f_tj, sigma_v)
+    return np.minimum(j, b), np.where(j <= b, "joint", "brick")
+
+
+# --- design rules (study.md, 6) -------------------------------------------------
+def lourenco_gaetani(c_j, f_tu, overlap, unit_height):
+    """Lower bounds of Lourenco & Gaetani: stepped (joint) failure
+    f = c_j l_o / h_b; brick failure f = f_tu / 2 (MPa)."""
+    return c_j * overlap / unit_height, 0.5 * f_tu
+
+
+def as3700(f_mt, f_ut, f_d):
+    """AS3700 horizontal bending at mean values (capacity factor 1,
+    k_p = 1): stepped f = 2 sqrt(f_mt)(1 + f_d / f_mt), capped at
+    4 sqrt(f_mt); line f = 0.44 f_ut + 0.56 f_mt (MPa)."""
+    f_d = np.asarray(f_d, float)
+    stepped = np.minimum(2.0 * np.sqrt(f_mt) * (1.0 + f_d / f_mt), 4.0 * np.sqrt(f_mt))
+    line = np.full_like(f_d, 0.44 * f_ut + 0.56 * f_mt)
+    return stepped, line

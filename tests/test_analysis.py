@@ -1,0 +1,94 @@
+"""Statistics and prediction equations (study.md, 6) on synthetic data with
+known answers."""
+import numpy as np
+import pandas as pd
+import pytest
+
+from masonrydem import analysis as A
+
+
+def _runs():
+    """Two variants x two levels; P_max known per group; one failed run."""
+    rows = []
+    for variant in ("nonspatial", "spatial"):
+        for sv, base in ((0.0, 10.0), (0.5, 15.0)):
+            for i, p in enumerate([base - 1, base, base + 1, 2 * base]):
+                rows.append(dict(variant=variant, sigma_v_mpa=sv, sample=i, P_max_kN=p,
+                                 strength_mpa=p / 7.0, failure_mode="brick" if i == 3 else "joint",
+                                 ok=True, f_tj_mpa=0.1 * p, f_tu_mpa=4.0 - 0.01 * p, phi_j_deg=35.0 + i,
+                                 E_b_mpa=15000.0))
+            rows.append(dict(variant=variant, sigma_v_mpa=sv, sample=9, P_max_kN=1e9, strength_mpa=1e9,
+                             failure_mode="joint", ok=False, f_tj_mpa=0.3, f_tu_mpa=3.75, phi_j_deg=35.0,
+                             E_b_mpa=15000.0))
+    return pd.DataFrame(rows)
+
+
+def test_statistics_exclude_failed_runs_and_count_them():
+    """Joint runs base-1, base, base+1: mean = base, COV = 1/base; brick run
+    2 base alone; brick share 1/4; the failed run (P = 1e9) is excluded and
+    counted."""
+    st = A.statistics(_runs())
+    j = st[(st.variant == "nonspatial") & (st.sigma_v_mpa == 0.0) & (st["mode"] == "joint")].iloc[0]
+    assert j["count"] == 3 and j.P_max_mean_kN == pytest.approx(10.0)
+    assert j.P_max_cov == pytest.approx(1.0 / 10.0)
+    assert j.brick_share == pytest.approx(0.25) and j.excluded == 1
+    a = st[(st.variant == "spatial") & (st.sigma_v_mpa == 0.5) & (st["mode"] == "all")].iloc[0]
+    assert a.P_max_mean_kN == pytest.approx((14 + 15 + 16 + 30) / 4)
+    inc = A.increase(st)
+    row = inc[(inc.variant == "nonspatial") & (inc["mode"] == "joint")].iloc[0]
+    assert row.increase == pytest.approx(15.0 / 10.0 - 1.0)
+
+
+def test_running_mean():
+    assert A.running_mean([2, 4, 6]).tolist() == [2, 3, 4]
+
+
+def test_correlations_signs():
+    """f_tj rises with P_max (r = +1 in the joint group), f_tu falls (r = -1),
+    E_b is constant (no correlation defined: NaN)."""
+    c = A.correlations(_runs())
+    j = c[(c.variant == "nonspatial") & (c.sigma_v_mpa == 0.0) & (c["mode"] == "joint")].iloc[0]
+    assert j.f_tj_mpa == pytest.approx(1.0) and j.f_tu_mpa == pytest.approx(-1.0)
+    assert np.isnan(j.E_b_mpa)
+
+
+def test_lasso_recovers_known_coefficients():
+    """Synthetic strengths sigma = 0.4 + 2.0 f_tj + 0.05 f_tu^2 + 0.9 sigma_v
+    + noise (sd 0.01 MPa) on 500 points: 5-fold CV picks a small penalty and
+    the equation recovers the coefficients (within 0.05), leaves out the
+    irrelevant features (|coef| < 0.02 in f_tu and f_tj^2 units), and the
+    MAPE is about the noise level (< 1 %)."""
+    rng = np.random.default_rng(0)
+    n = 500
+    f_tu = rng.lognormal(np.log(3.75), 0.25, n)
+    f_tj = rng.lognormal(np.log(0.3), 0.4, n)
+    sv = rng.choice([0.0, 0.075, 0.15, 0.25, 0.5], n)
+    y = 0.4 + 2.0 * f_tj + 0.05 * f_tu ** 2 + 0.9 * sv + rng.normal(0, 0.01, n)
+    eq = A.fit_equation(f_tu, f_tj, sv, y)
+    assert eq["coef"]["f_tj"] == pytest.approx(2.0, abs=0.05)
+    assert eq["coef"]["f_tu^2"] == pytest.approx(0.05, abs=0.01)
+    assert eq["coef"]["sigma_v"] == pytest.approx(0.9, abs=0.05)
+    assert abs(eq["coef"]["f_tu"]) < 0.05 and abs(eq["coef"]["f_tj^2"]) < 0.2
+    assert eq["intercept"] == pytest.approx(0.4, abs=0.1)
+    assert eq["mape"] < 1.0
+    np.testing.assert_allclose(A.predict(eq, f_tu, f_tj, sv), eq["fitted"], rtol=1e-10)
+    assert "f_tj" in A.equation_text(eq)
+
+
+def test_lower_of_two():
+    joint = dict(intercept=1.0, coef={k: 0.0 for k in A.FEATURES})
+    brick = dict(intercept=0.0, coef={**{k: 0.0 for k in A.FEATURES}, "sigma_v": 4.0})
+    s, mode = A.lower_of_two(joint, brick, [3.75] * 3, [0.3] * 3, [0.0, 0.25, 0.5])
+    assert s.tolist() == [0.0, 1.0, 1.0] and mode.tolist() == ["brick", "joint", "joint"]
+
+
+def test_design_rules():
+    """Lourenco-Gaetani: 0.36 x 120 / 75 = 0.576 MPa and 3.75 / 2.
+    AS3700 with f_mt = 0.3: stepped 2 sqrt(0.3)(1 + f_d/0.3), capped at
+    4 sqrt(0.3) (reached at f_d = 0.3); line 0.44 x 3.75 + 0.56 x 0.3."""
+    joint, brick = A.lourenco_gaetani(0.36, 3.75, 0.120, 0.075)
+    assert joint == pytest.approx(0.576) and brick == 1.875
+    stepped, line = A.as3700(0.3, 3.75, [0.0, 0.15, 0.5])
+    r = np.sqrt(0.3)
+    np.testing.assert_allclose(stepped, [2 * r, 2 * r * 1.5, 4 * r])
+    np.testing.assert_allclose(line, 0.44 * 3.75 + 0.56 * 0.3)
