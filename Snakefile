@@ -11,9 +11,11 @@ validate(config, "config/schema.yaml", set_default=True)
 include: "workflow/rules/common.smk"
 include: "workflow/rules/validation.smk"
 include: "workflow/rules/pictures.smk"
+include: "workflow/rules/study.smk"
 
 
 rule all:
     default_target: True
     input:
         get_validation_outputs(),
+        get_study_outputs(),

@@ -117,7 +117,7 @@ def run_scene(scene, progress=True):
     return row, curve, specimen, s
 
 
-def _atomic(path, write):
+def atomic_write(path, write):
     path = Path(path)
     tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
     write(tmp)
@@ -130,8 +130,8 @@ def write_outputs(out_dir, row, curve, specimen=None, solver=None, state=False):
     damage)."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    _atomic(out_dir / "result.parquet", lambda p: pd.DataFrame([row]).to_parquet(p, index=False))
-    _atomic(out_dir / "curve.parquet", lambda p: curve.to_parquet(p, index=False))
+    atomic_write(out_dir / "result.parquet", lambda p: pd.DataFrame([row]).to_parquet(p, index=False))
+    atomic_write(out_dir / "curve.parquet", lambda p: curve.to_parquet(p, index=False))
     if state:   # a .vtm is an index plus a folder of pieces: written last
         from .viz import state_blocks
         state_blocks(specimen, solver).save(str(out_dir / "state.vtm"))

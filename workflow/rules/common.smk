@@ -1,5 +1,7 @@
 import masonrydem
 
+R = config["results"]  # root of every output (config/smoke.yaml: .test/results)
+
 
 def get_solver_hash():
     """Hash of the solver's source: a param of every simulation rule, so that
@@ -9,20 +11,33 @@ def get_solver_hash():
 
 def get_validation_runs():
     v = config["validation"]
-    return [f"{case}_sv{sv}" for case in v["cases"] for sv in v["precompression_mpa"]]
+    return [f"{c['name']}_sv{sv}" for c in v["cases"] for sv in v["precompression_mpa"]]
 
 
 def get_validation_overrides(wildcards):
     """Scene overrides of one validation run: its case's plus the
     precompression."""
-    overrides = list(config["validation"]["cases"][wildcards.case])
+    case = {c["name"]: c["overrides"] for c in config["validation"]["cases"]}[wildcards.case]
+    overrides = list(case)
     return overrides + [f"loading.precompression.pressure={float(wildcards.sv) * 1e6}"]
 
 
 def get_validation_outputs():
     v = config["validation"]
     return (
-        ["results/validation/summary.csv", "results/validation/load_displacement.png",
-         "results/validation/model_numbering.png"]
-        + expand("results/validation/damage_{run}.png", run=v["pictures"])
+        [R + "/validation/summary.csv", R + "/validation/load_displacement.png",
+         R + "/validation/model_numbering.png"]
+        + expand(R + "/validation/damage_{run}.png", run=v["pictures"])
     )
+
+
+def get_study_runs(kind):
+    """Every simulation's result (kind 'result') or curve file."""
+    s = config["study"]
+    suffix = ".parquet" if kind == "result" else "_curve.parquet"
+    return expand(R + "/study/runs/{variant}/sv{sv}/s{sample}" + suffix, variant=s["variants"],
+                  sv=s["precompression_mpa"], sample=range(s["n_samples"]))
+
+
+def get_study_outputs():
+    return [R + "/study/statistics.csv", R + "/study/correlations.csv", R + "/study/sampling_check.csv"]

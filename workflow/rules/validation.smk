@@ -1,6 +1,8 @@
 wildcard_constraints:
     case="[A-Za-z0-9_]+",
     sv="[0-9.]+",
+    variant="nonspatial|spatial",
+    sample="[0-9]+",
 
 
 rule validation_run:
@@ -8,14 +10,14 @@ rule validation_run:
     input:
         scene=config["scene"],
     output:
-        result="results/validation/runs/{case}_sv{sv}/result.parquet",
-        curve="results/validation/runs/{case}_sv{sv}/curve.parquet",
-        state="results/validation/runs/{case}_sv{sv}/state.vtm",
+        result=R + "/validation/runs/{case}_sv{sv}/result.parquet",
+        curve=R + "/validation/runs/{case}_sv{sv}/curve.parquet",
+        state=R + "/validation/runs/{case}_sv{sv}/state.vtm",
     params:
         overrides=get_validation_overrides,
         solver=get_solver_hash(),
     log:
-        "logs/validation/{case}_sv{sv}.log",
+        R + "/logs/validation/{case}_sv{sv}.log",
     threads: 1
     script:
         "../scripts/validation_run.py"
@@ -25,15 +27,15 @@ rule validation_summary:
     """Peaks, initial stiffness, rate and mesh sensitivity; the
     load-displacement figure."""
     input:
-        results=expand("results/validation/runs/{run}/result.parquet", run=get_validation_runs()),
-        curves=expand("results/validation/runs/{run}/curve.parquet", run=get_validation_runs()),
+        results=expand(R + "/validation/runs/{run}/result.parquet", run=get_validation_runs()),
+        curves=expand(R + "/validation/runs/{run}/curve.parquet", run=get_validation_runs()),
     output:
-        table=report("results/validation/summary.csv", caption="../report/validation_summary.rst",
+        table=report(R + "/validation/summary.csv", caption="../report/validation_summary.rst",
                      category="Validation"),
-        figure=report("results/validation/load_displacement.png",
+        figure=report(R + "/validation/load_displacement.png",
                       caption="../report/validation_figure.rst", category="Validation"),
     log:
-        "logs/validation/summary.log",
+        R + "/logs/validation/summary.log",
     script:
         "../scripts/validation_summary.py"
 
@@ -43,9 +45,9 @@ rule model_numbering:
     input:
         scene=config["scene"],
     output:
-        report("results/validation/model_numbering.png", caption="../report/model_numbering.rst",
+        report(R + "/validation/model_numbering.png", caption="../report/model_numbering.rst",
                category="3-D pictures"),
     log:
-        "logs/validation/model_numbering.log",
+        R + "/logs/validation/model_numbering.log",
     script:
         "../scripts/model_numbering.py"

@@ -1,0 +1,46 @@
+"""The stochastic study (study.md, 5): from a sample to a scene.
+
+Dependent quantities (study.md, 5): c_j = 1.2 f_tj; G_fj,I = 0.03 f_tj and
+G_fu = 0.04 f_tu^0.7 (N/mm with f in MPa), G_fj,II = 10 G_fj,I;
+c_u = 1.5 f_tu; k_n from E_b, k_s = 0.4 k_n (the scene's rules).  In the
+spatial variant a joint's k_n follows the mean E_b of the two units it
+connects (scene.build).
+"""
+import copy
+
+import numpy as np
+
+from .scene import validate_scene
+
+GI_PER_FT = 0.03 * 1e3 / 1e6     # G_I (N/m) per f_tj (Pa): 0.03 N/mm per MPa
+GF_COEFFICIENT, GF_EXPONENT = 0.04, 0.7
+
+
+def unit_fracture_energy(f_tu):
+    """G_fu = 0.04 f_tu^0.7 (N/mm, f in MPa), returned in N/m."""
+    return 1e3 * GF_COEFFICIENT * (np.asarray(f_tu, float) / 1e6) ** GF_EXPONENT
+
+
+def study_scene(base, variant, sample, sigma_v):
+    """The scene of one simulation: ``base`` (a validated scene dict) with
+    the sample's properties and the precompression sigma_v (Pa).
+    ``sample``: a mapping with f_tj, f_tu, phi_j, E_b (scalars for
+    'nonspatial'; per unit f_tu, E_b and per joint f_tj, phi_j sequences for
+    'spatial')."""
+    sc = copy.deepcopy(base)
+    sc["name"] = f"{base['name']}:{variant}:s{int(sample['sample'])}"
+    mat = sc["materials"]
+    if variant == "nonspatial":
+        mat["units"].update(E=float(sample["E_b"]), ft=float(sample["f_tu"]),
+                            Gf=float(unit_fracture_energy(sample["f_tu"])))
+        mat["joints"].update(ft=float(sample["f_tj"]), phi=float(sample["phi_j"]),
+                             GI=GI_PER_FT * float(sample["f_tj"]))
+    elif variant == "spatial":
+        mat["per_unit"] = dict(E=[float(x) for x in sample["E_b"]], ft=[float(x) for x in sample["f_tu"]],
+                               gf_coefficient=GF_COEFFICIENT, gf_exponent=GF_EXPONENT)
+        mat["per_joint"] = dict(ft=[float(x) for x in sample["f_tj"]], phi=[float(x) for x in sample["phi_j"]],
+                                gi_per_ft=GI_PER_FT)
+    else:
+        raise ValueError(f"unknown variant {variant!r}")
+    sc["loading"]["precompression"]["pressure"] = float(sigma_v)
+    return validate_scene(sc)

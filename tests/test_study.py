@@ -1,0 +1,60 @@
+"""From samples to scenes: the study's dependent rules reach the model."""
+import numpy as np
+import pytest
+
+from masonrydem import kernels as K
+from masonrydem.sampling import study_samples
+from masonrydem.scene import build, joint_kn, load_scene
+from masonrydem.study import study_scene
+
+BASE = load_scene("config/scenes/willis.yaml")
+
+
+def test_nonspatial_sample_reaches_every_zone_and_joint():
+    """One value per variable for the whole wallette: zones get E_b, f_tu,
+    c_u = 1.5 f_tu and G_fu = 40 (f_tu/MPa)^0.7 N/m; joints get f_tj,
+    c_j = 1.2 f_tj, w_u = 2 G_I / f_t = 2 x 0.03e-3 m (G_I = 0.03 f_tj),
+    s_u = 2 G_II / c = 2 x 10 x 0.03e-3 / 1.2 m, tan(phi_j), k_n(E_b)."""
+    s = dict(sample=3, f_tj=0.25e6, f_tu=4.2e6, phi_j=33.0, E_b=12e9)
+    sp = build(study_scene(BASE, "nonspatial", s, 0.25e6))
+    b = sp.model.build()
+    zp, jp = b["zp"], b["joints"]["par"]
+    G = 12e9 / 2.4
+    np.testing.assert_allclose(zp[:, K.ZP_G], G)
+    np.testing.assert_allclose(zp[:, K.ZP_FT], 4.2e6)
+    np.testing.assert_allclose(zp[:, K.ZP_C], 1.5 * 4.2e6)
+    np.testing.assert_allclose(zp[:, K.ZP_GF], 40.0 * 4.2 ** 0.7)
+    np.testing.assert_allclose(jp[:, K.JP_FT], 0.25e6)
+    np.testing.assert_allclose(jp[:, K.JP_C], 1.2 * 0.25e6)
+    np.testing.assert_allclose(jp[:, K.JP_WU], 2 * 0.03e-3)
+    np.testing.assert_allclose(jp[:, K.JP_SU], 2 * 10 * 0.03e-3 / 1.2)
+    np.testing.assert_allclose(jp[:, K.JP_TANPHI], np.tan(np.radians(33.0)))
+    np.testing.assert_allclose(jp[:, K.JP_KN], joint_kn(12e9, 0.1, 0.01))
+    assert sp.scene["loading"]["precompression"]["pressure"] == 0.25e6
+
+
+def test_spatial_sample_per_unit_and_joint():
+    """Spatial: unit u's zones carry its own E_b, f_tu and G_fu(f_tu);
+    joint j's sub-contacts its own f_tj, phi_j and G_I(f_tj)."""
+    _, spatial, _ = study_samples(2, seed=11)
+    s = spatial.iloc[1]
+    sp = build(study_scene(BASE, "spatial", s, 0.0))
+    b = sp.model.build()
+    start = 0
+    for blk in sp.model.blocks:
+        n = blk.mesh.tets.shape[0]
+        zp = b["zp"][start:start + n]
+        np.testing.assert_allclose(zp[:, K.ZP_FT], s["f_tu"][blk.id])
+        np.testing.assert_allclose(zp[:, K.ZP_GF], 40.0 * (s["f_tu"][blk.id] / 1e6) ** 0.7)
+        np.testing.assert_allclose(zp[:, K.ZP_G], s["E_b"][blk.id] / 2.4)
+        start += n
+    jp = b["joints"]["par"]
+    for c, j in zip(sp.model.contacts, sp.contact_joint):
+        np.testing.assert_allclose(jp[c.sc, K.JP_FT], s["f_tj"][j])
+        np.testing.assert_allclose(jp[c.sc, K.JP_WU], 2 * 0.03e-3)
+        np.testing.assert_allclose(jp[c.sc, K.JP_TANPHI], np.tan(np.radians(s["phi_j"][j])))
+
+
+def test_unknown_variant():
+    with pytest.raises(ValueError):
+        study_scene(BASE, "mixed", dict(sample=0), 0.0)

@@ -1,0 +1,58 @@
+"""The Snakemake workflow: the smoke configuration runs the whole DAG end to
+end; the full study plans 2 x 100 x 5 simulations."""
+import subprocess
+import sys
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+
+
+@pytest.fixture(scope="module")
+def smoke(tmp_path_factory):
+    root = tmp_path_factory.mktemp("smoke") / "results"
+    r = subprocess.run(SNAKEMAKE + ["--cores", "2", "--configfile", "config/smoke.yaml",
+                                    "--config", f"results={root}", "-q"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    return root
+
+
+def test_smoke_study_outputs(smoke):
+    """2 variants x 3 samples x 2 levels = 12 rows, one per simulation, with
+    ids, inputs, outputs and status; statistics count every run."""
+    runs = pd.read_parquet(smoke / "study" / "runs.parquet")
+    assert len(runs) == 12
+    assert set(runs.variant) == {"nonspatial", "spatial"} and set(runs.sigma_v_mpa) == {0.0, 0.5}
+    assert runs.groupby(["variant", "sigma_v_mpa"]).size().tolist() == [3, 3, 3, 3]
+    for col in ("sample", "f_tj_mpa", "f_tu_mpa", "phi_j_deg", "E_b_mpa", "P_max_kN", "strength_mpa",
+                "failure_mode", "status", "ok", "steps", "wall_time_s"):
+        assert col in runs.columns
+    st = pd.read_csv(smoke / "study" / "statistics.csv")
+    alls = st[st["mode"] == "all"]
+    assert (alls["count"] + alls["excluded"]).tolist() == [3, 3, 3, 3]
+    curves = pd.read_parquet(smoke / "study" / "curves.parquet")
+    assert set(curves.variant) == {"nonspatial", "spatial"}
+    # same samples at every level: the inputs of a sample do not depend on sigma_v
+    ns = runs[runs.variant == "nonspatial"].pivot(index="sample", columns="sigma_v_mpa", values="f_tj_mpa")
+    assert (ns[0.0] == ns[0.5]).all()
+
+
+def test_smoke_validation_outputs(smoke):
+    for name in ("summary.csv", "load_displacement.png", "model_numbering.png", "damage_reference_sv0.0.png"):
+        assert (smoke / "validation" / name).stat().st_size > 0
+
+
+def test_rerun_does_nothing(smoke):
+    """Nothing to do after a complete run (outputs are up to date)."""
+    r = subprocess.run(SNAKEMAKE + ["-n", "--configfile", "config/smoke.yaml", "--config", f"results={smoke}"],
+                       capture_output=True, text=True)
+    assert r.returncode == 0 and "Nothing to be done" in r.stdout + r.stderr
+
+
+def test_full_study_plans_1000_simulations(tmp_path):
+    r = subprocess.run(SNAKEMAKE + ["-n", "--config", f"results={tmp_path}"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr[-2000:]
+    line = [x for x in r.stdout.splitlines() if x.startswith("simulate")]
+    assert line and int(line[0].split()[-1]) == 1000

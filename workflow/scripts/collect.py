@@ -1,0 +1,16 @@
+"""All simulations in one table, and all curves in another."""
+import sys
+
+sm = snakemake  # noqa: F821
+sys.stderr = sys.stdout = open(sm.log[0], "w")
+
+import pandas as pd  # noqa: E402
+
+from masonrydem.runner import atomic_write  # noqa: E402
+
+runs = pd.concat([pd.read_parquet(p) for p in sm.input.results], ignore_index=True)
+curves = pd.concat([pd.read_parquet(p) for p in sm.input.curves], ignore_index=True)
+atomic_write(sm.output.runs, lambda p: runs.to_parquet(p, index=False))
+atomic_write(sm.output.curves, lambda p: curves.to_parquet(p, index=False))
+print(f"{len(runs)} runs, {int((~runs.ok).sum())} not ok:")
+print(runs.groupby(["variant", "status"]).size().to_string())

@@ -1,0 +1,15 @@
+"""Statistics and correlations of the study's runs."""
+import sys
+
+sm = snakemake  # noqa: F821
+sys.stderr = sys.stdout = open(sm.log[0], "w")
+
+import pandas as pd  # noqa: E402
+
+from masonrydem.analysis import correlations, statistics  # noqa: E402
+
+runs = pd.read_parquet(sm.input.runs)
+st = statistics(runs)
+st.to_csv(sm.output.statistics, index=False, float_format="%.4g")
+correlations(runs).to_csv(sm.output.correlations, index=False, float_format="%.4g")
+print(st.to_string())
