@@ -12,6 +12,7 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/validation.smk"
 include: "workflow/rules/pictures.smk"
 include: "workflow/rules/study.smk"
+include: "workflow/rules/analysis.smk"
 
 
 rule all:

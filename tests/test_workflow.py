@@ -2,7 +2,6 @@
 end; the full study plans 2 x 100 x 5 simulations."""
 import subprocess
 import sys
-from pathlib import Path
 
 import pandas as pd
 import pytest

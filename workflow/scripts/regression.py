@@ -1,0 +1,52 @@
+"""Prediction equations (Lasso, 5-fold CV) per failure mode on the
+non-spatial runs; the lower-of-two prediction against the design rules."""
+import sys
+
+sm = snakemake  # noqa: F821
+sys.stderr = sys.stdout = open(sm.log[0], "w")
+
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from masonrydem import analysis as A  # noqa: E402
+from masonrydem import figures as F  # noqa: E402
+from masonrydem.sampling import STUDY_VARIABLES  # noqa: E402
+
+runs = pd.read_parquet(sm.input.runs)
+ns = runs[runs.ok & (runs.variant == "nonspatial")]
+fits, rows = {}, []
+for mode in ("joint", "brick"):
+    g = ns[ns.failure_mode == mode]
+    if len(g) < 5:                   # 5-fold CV needs at least one run per fold
+        rows.append(dict(mode=mode, n=len(g), equation="too few runs to fit"))
+        continue
+    eq = A.fit_equation(g.f_tu_mpa, g.f_tj_mpa, g.sigma_v_mpa, g.strength_mpa, seed=sm.params.seed)
+    fits[mode] = (eq, g.strength_mpa.to_numpy())
+    rows.append(dict(mode=mode, n=eq["n"], alpha=eq["alpha"], mape_pct=eq["mape"],
+                     intercept=eq["intercept"], **eq["coef"], equation=A.equation_text(eq)))
+pd.DataFrame(rows).to_csv(sm.output.equations, index=False, float_format="%.5g")
+F.predicted_vs_simulated(fits, sm.output.predicted)
+
+# lower of two at the mean properties, with +-1 SD of the residuals
+mean = {v.name: v.mean for v in STUDY_VARIABLES}
+f_tu, f_tj = mean["f_tu"] / 1e6, mean["f_tj"] / 1e6
+levels = np.linspace(0.0, max(runs.sigma_v_mpa.max(), 0.5), 51)
+pred = band = np.full_like(levels, np.nan)
+if fits:
+    eqs = {m: e for m, (e, _) in fits.items()}
+    joint, brick = eqs.get("joint", eqs.get("brick")), eqs.get("brick", eqs.get("joint"))
+    pred, _ = A.lower_of_two(joint, brick, np.full_like(levels, f_tu), np.full_like(levels, f_tj), levels)
+    fit_all, _ = A.lower_of_two(joint, brick, ns.f_tu_mpa, ns.f_tj_mpa, ns.sigma_v_mpa)
+    band = np.full_like(levels, np.std(ns.strength_mpa - fit_all, ddof=1))
+# model quantities for the rules: c_j = 1.2 f_tj; overlap l_o = half a
+# modelled unit (120 mm), h_b = modelled unit height (75 mm); AS3700 f_mt
+# from f_tj (flexural bond ~ tensile bond of the joint), f_ut from f_tu
+lg = A.lourenco_gaetani(1.2 * f_tj, f_tu, 0.120, 0.075)
+as_stepped, as_line = A.as3700(f_tj, f_tu, levels)
+sim = ns.groupby("sigma_v_mpa").strength_mpa.mean()
+F.design_comparison(levels, pred, band, lg, as_stepped, as_line, (sim.index.to_numpy(), sim.to_numpy()),
+                    sm.output.design)
+pd.DataFrame(dict(sigma_v_mpa=levels, prediction=pred, band_sd=band, lg_stepped=lg[0], lg_brick=lg[1],
+                  as3700_stepped=as_stepped, as3700_line=as_line)).to_csv(
+    sm.output.design_table, index=False, float_format="%.5g")
+print(pd.DataFrame(rows).to_string())
