@@ -55,3 +55,14 @@ def test_full_study_plans_1000_simulations(tmp_path):
     assert r.returncode == 0, r.stderr[-2000:]
     line = [x for x in r.stdout.splitlines() if x.startswith("simulate")]
     assert line and int(line[0].split()[-1]) == 1000
+
+
+def test_full_study_plans_on_slurm(tmp_path):
+    """The cluster profile (snakemake-executor-plugin-slurm, simulations
+    grouped 50 per cluster job) plans the full DAG (dry run)."""
+    r = subprocess.run(SNAKEMAKE + ["-n", "--profile", "workflow/profiles/slurm", "--default-resources",
+                                    "slurm_partition=test", "--config", f"results={tmp_path}"],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr[-2000:]
+    line = [x for x in r.stdout.splitlines() if x.startswith("simulate")]
+    assert line and int(line[0].split()[-1]) == 1000
