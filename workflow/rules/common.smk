@@ -41,6 +41,6 @@ def get_study_runs(kind):
 
 def get_study_outputs():
     return [R + "/study/" + name for name in (
-        "statistics.csv", "correlations.csv", "sampling_check.csv", "running_mean.png", "brick_share.png",
+        "statistics.csv", "correlations.csv", "increase.csv", "sampling_check.csv", "running_mean.png", "brick_share.png",
         "correlation_vs_sigma.png", "scatter_deviation.png", "curves_by_mode.png", "equations.csv",
         "predicted_vs_simulated.png", "design_comparison.png")]

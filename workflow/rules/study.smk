@@ -55,6 +55,7 @@ rule statistics:
         statistics=report(R + "/study/statistics.csv", caption="../report/statistics.rst", category="Study"),
         correlations=report(R + "/study/correlations.csv", caption="../report/correlations.rst",
                             category="Study"),
+        increase=report(R + "/study/increase.csv", caption="../report/increase.rst", category="Study"),
     log:
         R + "/logs/study/statistics.log",
     script:
