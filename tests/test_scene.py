@@ -37,6 +37,7 @@ def test_willis_scene_is_the_study_specimen():
     ("materials.per_unit.E=[1.0e9, 2.0e9]", "materials.per_unit.E"),
     ("numerics.celss=[4, 2, 2]", "numerics"),
     ("outputs.crack_through=2", "outputs.crack_through"),
+    ("geometry.joint_thickness=0", "geometry.joint_thickness"),
 ])
 def test_bad_scene_refused_naming_the_field(override, field):
     with pytest.raises(InputError) as e:

@@ -217,8 +217,6 @@ def build(scene):
         return joints.index(("bed", upper))
 
     t = g["joint_thickness"]
-    if t <= 0:
-        raise InputError("geometry.joint_thickness", "must be positive to give the joints a stiffness")
 
     def props(a, b):
         """A joint's stiffness follows the mean E_b of the two units it
