@@ -190,7 +190,7 @@ def zone_mohr_coulomb(t, zp, zs, stress, a, v, x0, gnodes, k0, k1):
     The region is chosen with FLAC's h-function
         h = s3 - sigma_t + alpha_P (s1 - sigma_P),
         alpha_P = sqrt(1 + N_phi^2) + N_phi, sigma_P = sigma_t N_phi - 2c sqrt(N_phi).
-    Returns True if the zone yielded in tension this step."""
+    Returns True if the stress was corrected (the zone yielded)."""
     c = zp[t, ZP_C]
     nphi = zp[t, ZP_NPHI]
     sqn = math.sqrt(nphi)
@@ -209,7 +209,7 @@ def zone_mohr_coulomb(t, zp, zs, stress, a, v, x0, gnodes, k0, k1):
     p3 = a[i3, i3]
     fs = p1 - p3 * nphi + 2.0 * c * sqn
     if fs >= 0.0 and p3 <= sig_t:
-        return False
+        return False     # the pre-check was conservative: no yield
     kk = zp[t, ZP_K]
     g = zp[t, ZP_G]
     alpha1 = kk + 4.0 * g / 3.0
@@ -220,7 +220,6 @@ def zone_mohr_coulomb(t, zp, zs, stress, a, v, x0, gnodes, k0, k1):
     d1 = 0.0
     d2 = 0.0
     d3 = 0.0
-    cracked = False
     if fs < 0.0 and hf <= 0.0:
         lam = fs / (2.0 * g * (1.0 + nphi))
         d1 = -2.0 * g * lam
@@ -246,7 +245,6 @@ def zone_mohr_coulomb(t, zp, zs, stress, a, v, x0, gnodes, k0, k1):
             zs[t, ZS_H] = h
             zs[t, ZS_EULT] = 2.0 * zp[t, ZP_GF] / (zp[t, ZP_FT] * h)
         zs[t, ZS_EPT] += lam
-        cracked = True
     else:
         return False
     # stress correction: sum_i d_i n_i n_i^T
@@ -261,7 +259,7 @@ def zone_mohr_coulomb(t, zp, zs, stress, a, v, x0, gnodes, k0, k1):
             stress[t, 3] += di * nx * ny
             stress[t, 4] += di * ny * nz
             stress[t, 5] += di * nz * nx
-    return cracked
+    return True
 
 
 # =============================================================================
@@ -321,8 +319,7 @@ def zone_forces(zlaw, dt, v, f, x0, tets, dn, vol, wt, gptr, gnodes, gnptr,
     and its forces and queues (in ``pending``) the zones that may yield; the
     second corrects their stresses and adds the forces of the correction
     (forces are linear in the stress).  Keeping the rarely-taken return
-    mapping out of the main loop keeps that loop fast.
-    Returns the number of zones that cracked (yielded in tension)."""
+    mapping out of the main loop keeps that loop fast."""
     ng = gptr.shape[0] - 1
     npend = 0
     for g in range(ng):
@@ -387,7 +384,6 @@ def zone_forces(zlaw, dt, v, f, x0, tets, dn, vol, wt, gptr, gnodes, gnptr,
                     npend += 1
             _tet_forces(t, wt[t] * vol[t], stress[t, 0], stress[t, 1], stress[t, 2],
                         stress[t, 3], stress[t, 4], stress[t, 5], tets, dn, f)
-    ncrack = 0
     for i in range(npend):
         t = pending[i, 0]
         g = pending[i, 1]
@@ -398,11 +394,9 @@ def zone_forces(zlaw, dt, v, f, x0, tets, dn, vol, wt, gptr, gnodes, gnptr,
         o4 = stress[t, 4]
         o5 = stress[t, 5]
         if zone_mohr_coulomb(t, zp, zs, stress, a, evec, x0, gnodes, gnptr[g], gnptr[g + 1]):
-            ncrack += 1
-        _tet_forces(t, wt[t] * vol[t], stress[t, 0] - o0, stress[t, 1] - o1,
-                    stress[t, 2] - o2, stress[t, 3] - o3, stress[t, 4] - o4,
-                    stress[t, 5] - o5, tets, dn, f)
-    return ncrack
+            _tet_forces(t, wt[t] * vol[t], stress[t, 0] - o0, stress[t, 1] - o1,
+                        stress[t, 2] - o2, stress[t, 3] - o3, stress[t, 4] - o4,
+                        stress[t, 5] - o5, tets, dn, f)
 
 
 # =============================================================================

@@ -193,6 +193,25 @@ class Solver:
         blk = int(self.b["block_of_node"][nd])
         return f"node {nd} (block {blk}, at {np.round(self.b['x0'][nd], 4).tolist()} m)"
 
+    def _divergence(self, code, high_ratio_chunks):
+        """Why the run diverged, or None: non-finite values; a node moving
+        more than 10 % of the smallest zone size in one step; an energy
+        blow-up (kinetic energy above 10 times the energy put in: the
+        initial kinetic energy plus the work of reactions and applied
+        forces, which a stable run cannot exceed); in quasi-static mode an
+        unbalanced-force ratio above 10 for 5 chunks in a row."""
+        if code == K.ST_NONFINITE:
+            return "non-finite values"
+        vmax = float(np.max(np.abs(self.v))) * self.dt
+        if vmax > 0.1 * self.h_min:
+            return f"a node moved {vmax:.3g} m in one step (> 10% of the smallest zone, {self.h_min:.3g} m)"
+        ke, energy_in = self.last[1], self.energy_in + self.work[0]
+        if ke > 10.0 * max(energy_in, 0.0):
+            return f"energy blow-up: kinetic energy {ke:.3g} J exceeds 10 x the energy put in ({energy_in:.3g} J)"
+        if high_ratio_chunks >= 5:
+            return f"unbalanced-force ratio above 10 for 5 chunks ({self.last[0]:.3g})"
+        return None
+
     def run(self, max_steps, ratio_tol=None, disp_limit=None, load_drop=None,
             monitor=None, progress=None, ramp_steps=0):
         """Cycles until a stop criterion holds:
@@ -202,15 +221,11 @@ class Solver:
         * load_drop: after the peak, the load of ``monitor`` fell below
           load_drop * peak;
         * max_steps;
+        * the divergence guard ('diverged', see ``_divergence``);
+        * a block rotation beyond ``rotation_limit`` ('large_displacement').
         ramp_steps: the prescribed velocities grow linearly from zero to their
         full value over the first ``ramp_steps`` steps of this run.
         Peaks (``history.peak``) are those of this run.
-        * the divergence guard ('diverged'): non-finite values; a node
-          moving more than 10 % of the smallest zone size in one step; an
-          energy blow-up (kinetic energy above 10 times the energy put in:
-          the initial kinetic energy plus the work of reactions and applied
-          forces); in quasi-static mode, an unbalanced-force ratio above 10
-          for 5 chunks in a row.
         ``progress(solver)`` is called after every chunk."""
         t0 = time.perf_counter()
         g = self.monitor_index(monitor) if monitor is not None else None
@@ -231,26 +246,10 @@ class Solver:
             code, _ = self.cycle(n)
             if progress is not None:
                 progress(self)
-            if code == K.ST_NONFINITE:
-                status, message = "diverged", f"non-finite values at step {self.step}, " \
-                                              f"starting at {self._diverged_where()}"
-                break
-            vmax = float(np.max(np.abs(self.v))) * self.dt
-            if vmax > 0.1 * self.h_min:
-                status, message = "diverged", (f"a node moved {vmax:.3g} m in one step (> 10% of the "
-                                               f"smallest zone, {self.h_min:.3g} m) at step {self.step}, "
-                                               f"starting at {self._diverged_where()}")
-                break
-            ke, energy_in = self.last[1], self.energy_in + self.work[0]
-            if ke > 10.0 * max(energy_in, 0.0):
-                status, message = "diverged", (f"energy blow-up: kinetic energy {ke:.3g} J exceeds 10 x "
-                                               f"the energy put in ({energy_in:.3g} J) at step {self.step}, "
-                                               f"starting at {self._diverged_where()}")
-                break
             high_ratio = high_ratio + 1 if self.mode == QUASI_STATIC and self.last[0] > 10 else 0
-            if high_ratio >= 5:
-                status, message = "diverged", (f"unbalanced-force ratio above 10 for 5 chunks "
-                                               f"({self.last[0]:.3g} at step {self.step}), "
+            reason = self._divergence(code, high_ratio)
+            if reason:
+                status, message = "diverged", (f"{reason} at step {self.step}, "
                                                f"starting at {self._diverged_where()}")
                 break
             if chunks % 20 == 0 and (rot := self.max_rotation()) > self.rotation_limit:
