@@ -13,6 +13,7 @@ include: "workflow/rules/validation.smk"
 include: "workflow/rules/pictures.smk"
 include: "workflow/rules/study.smk"
 include: "workflow/rules/analysis.smk"
+include: "workflow/rules/accuracy.smk"
 
 
 rule all:
@@ -20,3 +21,4 @@ rule all:
     input:
         get_validation_outputs(),
         get_study_outputs(),
+        get_accuracy_outputs(),

@@ -8,16 +8,22 @@ from .solver import Solver
 __version__ = "0.1.0"
 
 
+SIMULATION_SOURCES = ("classify.py", "errors.py", "kernels.py", "laws.py", "mesh.py", "model.py", "runner.py",
+                      "scene.py", "scene_schema.yaml", "solver.py", "study.py", "viz.py")
+
+
 def source_hash():
-    """Hash of the package's source files: changes whenever the solver does
-    (the workflow passes it as a parameter so that solver changes rerun
-    simulations)."""
+    """Hash of the source files that decide what a simulation computes (the
+    workflow passes it as a parameter of every simulation rule, so that a
+    solver change reruns them, and a change to the analysis or the figures
+    does not)."""
     import hashlib
     from pathlib import Path
+    here = Path(__file__).parent
     h = hashlib.sha256()
-    for p in sorted(Path(__file__).parent.glob("*.py")) + sorted(Path(__file__).parent.glob("*.yaml")):
-        h.update(p.name.encode())
-        h.update(p.read_bytes())
+    for name in SIMULATION_SOURCES:
+        h.update(name.encode())
+        h.update((here / name).read_bytes())
     return h.hexdigest()[:12]
 
 __all__ = ["Elastic", "InputError", "JointProps", "Model", "MohrCoulomb", "Solver", "__version__", "source_hash"]

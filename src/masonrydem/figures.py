@@ -145,3 +145,113 @@ def design_comparison(levels, pred, band, lg, as_stepped, as_line, simulated, pa
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     _save(fig, path)
+
+
+def accuracy_pareto(table, conv, choice, tolerance, path):
+    """Per case: |error| of P_max against run time for every setting; the
+    grid (cells x sub-contacts) coloured by sub-contact refinement, the
+    one-at-a-time variations grey; the Pareto front, the tolerance, the knee
+    and the defaults marked."""
+    from .accuracy import pareto_front
+    cases = list(conv.case)
+    fig, axes = plt.subplots(1, len(cases), figsize=(5.2 * len(cases), 4.4), squeeze=False)
+    knee = choice.loc[choice.knee, "setting"]
+    knee = knee.iloc[0] if len(knee) else None
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for ax, case in zip(axes[0], cases):
+        c = table[(table.case == case) & table.ok].copy()
+        c["abs_err"] = 100 * c.error.abs().clip(lower=1e-3)
+        for k, (r, g) in enumerate(c[c.grid].groupby("subcontact_refine")):
+            ax.scatter(g.wall_time_s, g.abs_err, color=colors[k], label=f"sub-contacts x{r}", zorder=3)
+            for _, row in g.iterrows():
+                ax.annotate(row.cells, (row.wall_time_s, row.abs_err), fontsize=6, xytext=(3, 2),
+                            textcoords="offset points")
+        o = c[~c.grid & (c.setting != "default")]
+        ax.scatter(o.wall_time_s, o.abs_err, color="0.6", marker="s", s=14, label="one-at-a-time", zorder=2)
+        for _, row in o.iterrows():
+            ax.annotate(row.setting, (row.wall_time_s, row.abs_err), fontsize=6, color="0.4", xytext=(3, -6),
+                        textcoords="offset points")
+        front = c.iloc[pareto_front(c.wall_time_s, c.abs_err)]
+        ax.step(front.wall_time_s, front.abs_err, where="post", color="k", lw=0.8, label="Pareto front")
+        bad = c[~c.mode_ok]
+        ax.scatter(bad.wall_time_s, bad.abs_err, facecolor="none", edgecolor="r", s=90, label="wrong mode")
+        d = c[c.setting == "default"]
+        ax.scatter(d.wall_time_s, d.abs_err, marker="*", s=160, color="gold", edgecolor="k", label="defaults",
+                   zorder=4)
+        if knee is not None:
+            kn = c[c.setting == knee]
+            ax.scatter(kn.wall_time_s, kn.abs_err, marker="D", s=70, facecolor="none", edgecolor="k",
+                       label=f"knee ({knee})", zorder=5)
+        failed = table[(table.case == case) & ~table.ok]
+        if len(failed):
+            top = 1.5 * max(c.abs_err.max(), 100 * tolerance) if len(c) else 100.0
+            ax.scatter(failed.wall_time_s, np.full(len(failed), top), marker="x", color="r",
+                       label="failed (status in runs.csv)")
+            for _, row in failed.iterrows():
+                ax.annotate(f"{row.setting}: {row.status}", (row.wall_time_s, top), fontsize=6, color="r",
+                            rotation=90, xytext=(2, -4), textcoords="offset points", va="top")
+        ax.axhline(100 * tolerance, color="k", ls="--", lw=0.8)
+        ref = conv[conv.case == case].iloc[0]
+        flag = " NOT CONVERGED" if ref.method.startswith("NOT CONVERGED") else ""
+        ax.set_title(f"{case}: reference {ref.reference_kN:.2f} kN ({ref.reference_mode}){flag}", fontsize=9)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("run time (s, one core)")
+        ax.grid(alpha=0.3, which="both")
+    axes[0][0].set_ylabel("|P_max error| against the converged reference (%)")
+    axes[0][-1].legend(fontsize=7)
+    _save(fig, path)
+
+
+def accuracy_scaling(units, cells, fits, path):
+    """Run time and time per step against the number of units and against
+    cells per unit edge (log-log) with the fitted power laws."""
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    for ax, (name, t, xlabel) in zip(axes, (("units", units, "units"), ("cells", cells, "cells along a unit"))):
+        x = t[name]
+        for col, marker, label in (("wall_time_s", "o", "run time (s)"), ("us_per_step", "s", "time per step (ms)")):
+            y = t[col] / (1e3 if col == "us_per_step" else 1.0)
+            a, k = fits[(name, col)]
+            ax.loglog(x, y, marker, label=f"{label}: exponent {k:.2f}")
+            xs = np.geomspace(x.min(), x.max(), 20)
+            ax.loglog(xs, a * xs ** k / (1e3 if col == "us_per_step" else 1.0), "k:", lw=0.8)
+        ax.set_xlabel(xlabel)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=8)
+    _save(fig, path)
+
+
+def accuracy_subsample(merged, path):
+    """P_max of the same samples at default against fine settings, by
+    precompression; the marker says whether the failure mode agrees."""
+    fig, ax = plt.subplots(figsize=(5.5, 5))
+    for sv, g in merged.groupby("sigma_v_mpa"):
+        same = g.failure_mode_default == g.failure_mode_fine
+        line = ax.scatter(g.P_max_kN_fine[same], g.P_max_kN_default[same], label=f"{sv:g} MPa")
+        ax.scatter(g.P_max_kN_fine[~same], g.P_max_kN_default[~same], marker="x", color=line.get_facecolor(),
+                   label=f"{sv:g} MPa, mode differs")
+    lim = [0, 1.05 * max(merged.P_max_kN_fine.max(), merged.P_max_kN_default.max())]
+    ax.plot(lim, lim, "k-", lw=0.8)
+    ax.set_xlim(lim)
+    ax.set_ylim(lim)
+    ax.set_xlabel("P_max, fine settings (kN)")
+    ax.set_ylabel("P_max, default settings (kN)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    _save(fig, path)
+
+
+def write_caption(template, path, **values):
+    """A report caption: the text of ``template`` (reStructuredText with
+    str.format fields) filled with the numbers a rule found."""
+    from pathlib import Path
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    Path(path).write_text(Path(template).read_text().format(**values))
+
+
+def write_captions(templates, outputs, values):
+    """Captions of one rule: template i (workflow/report/NAME.rst) filled
+    with values[NAME] and written to outputs[i]."""
+    from pathlib import Path
+    for t, o in zip(templates, outputs):
+        write_caption(t, o, **values.get(Path(t).stem, {}))

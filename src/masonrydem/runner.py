@@ -58,6 +58,9 @@ def inputs_row(specimen):
         f_tu_mpa=float(np.mean(specimen.f_tu)) / 1e6,
         f_tj_mpa=float(np.mean(specimen.f_tj)) / 1e6,
         phi_j_deg=float(np.mean(specimen.phi_j)),
+        units=len(specimen.model.blocks),
+        cells="x".join(str(c) for c in sc["numerics"]["cells"]),
+        subcontact_refine=sc["numerics"]["subcontact_refine"],
     )
 
 
@@ -110,6 +113,8 @@ def run_scene(scene, progress=True):
         precompression_status=pre_status,
         steps=int(s.step),
         peak_step=int(peak_step),
+        tets=int(s.b["tets"].shape[0]),
+        subcontacts=int(s.js.shape[0]),
         max_rotation_rad=s.max_rotation(),
         wall_time_s=time.perf_counter() - t0,
         solver_version=f"{__version__}+{source_hash()}",

@@ -40,7 +40,7 @@ def figure(table, curves, path):
     levels = sorted(table.sigma_v_mpa.unique())
     fig, axes = plt.subplots(1, len(levels), figsize=(6 * len(levels), 4.5), squeeze=False)
     style = {"reference": dict(color="k", lw=2), "half_rate": dict(color="tab:blue", ls="--"),
-             "refined": dict(color="tab:orange", ls=":"), "strong_joints": dict(color="tab:red", lw=1.5)}
+             "strong_joints": dict(color="tab:red", lw=1.5)}
     for ax, sv in zip(axes[0], levels):
         for _, r in table[table.sigma_v_mpa == sv].iterrows():
             c = curves[r.run]

@@ -1,3 +1,7 @@
+FIGURE_CAPTIONS = ["running_mean", "brick_share", "correlation_vs_sigma", "scatter_deviation", "curves_by_mode"]
+REGRESSION_CAPTIONS = ["equations", "design_comparison"]
+
+
 rule figures:
     """Running mean, brick share, correlations, scatter plots, curves by mode."""
     input:
@@ -5,14 +9,16 @@ rule figures:
         curves=R + "/study/curves.parquet",
         statistics=R + "/study/statistics.csv",
         correlations=R + "/study/correlations.csv",
+        templates=[template(n) for n in FIGURE_CAPTIONS],
     output:
-        running_mean=report(R + "/study/running_mean.png", caption="../report/running_mean.rst", category="Study"),
-        brick_share=report(R + "/study/brick_share.png", caption="../report/brick_share.rst", category="Study"),
-        correlation=report(R + "/study/correlation_vs_sigma.png", caption="../report/correlation_vs_sigma.rst",
+        running_mean=report(R + "/study/running_mean.png", caption=caption("running_mean"), category="Study"),
+        brick_share=report(R + "/study/brick_share.png", caption=caption("brick_share"), category="Study"),
+        correlation=report(R + "/study/correlation_vs_sigma.png", caption=caption("correlation_vs_sigma"),
                            category="Study"),
-        scatter=report(R + "/study/scatter_deviation.png", caption="../report/scatter_deviation.rst",
+        scatter=report(R + "/study/scatter_deviation.png", caption=caption("scatter_deviation"),
                        category="Study"),
-        curves=report(R + "/study/curves_by_mode.png", caption="../report/curves_by_mode.rst", category="Study"),
+        curves=report(R + "/study/curves_by_mode.png", caption=caption("curves_by_mode"), category="Study"),
+        captions=[caption(n) for n in FIGURE_CAPTIONS],
     log:
         R + "/logs/study/figures.log",
     script:
@@ -23,13 +29,15 @@ rule regression:
     """Lasso prediction equations per mode and the design-rule comparison."""
     input:
         runs=R + "/study/runs.parquet",
+        templates=[template(n) for n in REGRESSION_CAPTIONS],
     output:
-        equations=report(R + "/study/equations.csv", caption="../report/equations.rst", category="Prediction"),
-        predicted=report(R + "/study/predicted_vs_simulated.png", caption="../report/predicted_vs_simulated.rst",
+        equations=report(R + "/study/equations.csv", caption=caption("equations"), category="Prediction"),
+        predicted=report(R + "/study/predicted_vs_simulated.png", caption=caption("equations"),
                          category="Prediction"),
-        design=report(R + "/study/design_comparison.png", caption="../report/design_comparison.rst",
+        design=report(R + "/study/design_comparison.png", caption=caption("design_comparison"),
                       category="Prediction"),
         design_table=R + "/study/design_comparison.csv",
+        captions=[caption(n) for n in REGRESSION_CAPTIONS],
     params:
         seed=config["study"]["seed"],
     log:

@@ -1,6 +1,27 @@
+import os
+
 import masonrydem
 
 R = config["results"]  # root of every output (config/smoke.yaml: .test/results)
+
+
+def caption(name):
+    """The caption of a report item, written by its rule with the numbers it
+    found (template: workflow/report/NAME.rst; written to R/report/NAME.rst)."""
+    return os.path.abspath(f"{R}/report/{name}.rst")
+
+
+def template(name):
+    return f"workflow/report/{name}.rst"
+
+
+def effective(*lists):
+    """Scene overrides in order, without those a later one replaces (same
+    key): the parameters then say only what a run uses, so that changing a
+    default that a run overrides anyway does not rerun it."""
+    flat = [o for lst in lists for o in lst]
+    keys = [o.split("=", 1)[0] for o in flat]
+    return [o for i, o in enumerate(flat) if keys[i] not in keys[i + 1:]]
 
 
 def get_solver_hash():
@@ -18,8 +39,7 @@ def get_validation_overrides(wildcards):
     """Scene overrides of one validation run: its case's plus the
     precompression."""
     case = {c["name"]: c["overrides"] for c in config["validation"]["cases"]}[wildcards.case]
-    overrides = list(case)
-    return overrides + [f"loading.precompression.pressure={float(wildcards.sv) * 1e6}"]
+    return effective(config["numerics"], case, [f"loading.precompression.pressure={float(wildcards.sv) * 1e6}"])
 
 
 def get_validation_outputs():
@@ -44,3 +64,74 @@ def get_study_outputs():
         "statistics.csv", "correlations.csv", "increase.csv", "sampling_check.csv", "running_mean.png", "brick_share.png",
         "correlation_vs_sigma.png", "scatter_deviation.png", "curves_by_mode.png", "equations.csv",
         "predicted_vs_simulated.png", "design_comparison.png")]
+
+
+# --- accuracy study (issue 5) -------------------------------------------
+A = config.get("accuracy")
+
+
+def grid_setting(cells, refine):
+    return "c{}x{}x{}_r{}".format(*cells, refine)
+
+
+def accuracy_grid():
+    """Setting id -> overrides of the mesh runs: the grid cells x
+    sub-contacts, the extra candidates and the finer path levels.  They run
+    on the scene's own loading and stop settings (not config numerics), so
+    that the mesh study stands on its own when the defaults change."""
+    out = {}
+    for cells in A["cells"]:
+        for r in A["subcontact_refine"]:
+            out[grid_setting(cells, r)] = [f"numerics.cells={list(cells)}", f"numerics.subcontact_refine={r}"]
+    for cells in A["extra_cells"]:
+        for r in A["extra_refine"]:
+            out[grid_setting(cells, r)] = [f"numerics.cells={list(cells)}", f"numerics.subcontact_refine={r}"]
+    r = max(A["subcontact_refine"])
+    for cells in path_cells()[len(A["cells"]):]:
+        out[grid_setting(cells, r)] = [f"numerics.cells={list(cells)}", f"numerics.subcontact_refine={r}"]
+    return out
+
+
+def accuracy_oat(case):
+    """Setting id -> overrides of the runs on config numerics: the defaults
+    themselves and one setting changed at a time."""
+    out = {"default": []}
+    for s in A["settings"]:
+        if case in s.get("cases", [c["name"] for c in A["cases"]]):
+            for v in s["values"]:
+                out[f"{s['name']}_{v}"] = [f"{s['key']}={v}"]
+    return out
+
+
+def path_cells():
+    """The refinement path (run at the finest sub-contact refinement)."""
+    return A["cells"] + A["path_cells"]
+
+
+def get_accuracy_overrides(wildcards):
+    case = {c["name"]: c["overrides"] for c in A["cases"]}[wildcards.case]
+    grid = accuracy_grid()
+    if wildcards.setting in grid:
+        return effective(case, grid[wildcards.setting])
+    return effective(config["numerics"], case, accuracy_oat(wildcards.case)[wildcards.setting])
+
+
+def get_accuracy_runs(kind):
+    return [f"{R}/accuracy/runs/{c['name']}/{s}/{kind}.parquet"
+            for c in A["cases"] for s in [*accuracy_grid(), *accuracy_oat(c["name"])]]
+
+
+def get_subsample_runs(which):
+    """The study's own runs ('default') or their reruns with fine settings."""
+    sub = A["subsample"]
+    root = "study/runs" if which == "default" else "accuracy/subsample"
+    return expand(R + "/" + root + "/nonspatial/sv{sv}/s{sample}.parquet", sv=sub["precompression_mpa"],
+                  sample=range(sub["n_samples"]))
+
+
+def get_accuracy_outputs():
+    if A is None:
+        return []
+    return [R + "/accuracy/" + name for name in (
+        "runs.csv", "convergence.csv", "choice.csv", "pareto.png", "scaling.csv", "scaling.png",
+        "subsample.csv", "subsample.png")]

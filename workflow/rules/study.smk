@@ -1,11 +1,16 @@
+STATISTICS_CAPTIONS = ["statistics", "correlations", "increase"]
+
+
 rule sample:
     """Latin Hypercube samples of both variants (study.md, 5) and the
     achieved correlations."""
+    input:
+        template=template("sampling_check"),
     output:
         nonspatial=R + "/study/samples_nonspatial.parquet",
         spatial=R + "/study/samples_spatial.parquet",
-        check=report(R + "/study/sampling_check.csv", caption="../report/sampling_check.rst",
-                     category="Study"),
+        check=report(R + "/study/sampling_check.csv", caption=caption("sampling_check"), category="Study"),
+        caption=caption("sampling_check"),
     params:
         study=config["study"],
     log:
@@ -23,7 +28,7 @@ rule simulate:
         result=R + "/study/runs/{variant}/sv{sv}/s{sample}.parquet",
         curve=R + "/study/runs/{variant}/sv{sv}/s{sample}_curve.parquet",
     params:
-        overrides=config["study"]["scene_overrides"],
+        overrides=config["numerics"],
         solver=get_solver_hash(),
     log:
         R + "/logs/study/{variant}_sv{sv}_s{sample}.log",
@@ -51,11 +56,13 @@ rule statistics:
     Pearson correlations with the random inputs."""
     input:
         runs=R + "/study/runs.parquet",
+        templates=[template(n) for n in STATISTICS_CAPTIONS],
     output:
-        statistics=report(R + "/study/statistics.csv", caption="../report/statistics.rst", category="Study"),
-        correlations=report(R + "/study/correlations.csv", caption="../report/correlations.rst",
+        statistics=report(R + "/study/statistics.csv", caption=caption("statistics"), category="Study"),
+        correlations=report(R + "/study/correlations.csv", caption=caption("correlations"),
                             category="Study"),
-        increase=report(R + "/study/increase.csv", caption="../report/increase.rst", category="Study"),
+        increase=report(R + "/study/increase.csv", caption=caption("increase"), category="Study"),
+        captions=[caption(n) for n in STATISTICS_CAPTIONS],
     log:
         R + "/logs/study/statistics.log",
     script:

@@ -20,7 +20,7 @@ rule validation_run:
         R + "/logs/validation/{case}_sv{sv}.log",
     threads: 1
     script:
-        "../scripts/validation_run.py"
+        "../scripts/run.py"
 
 
 rule validation_summary:
@@ -29,11 +29,12 @@ rule validation_summary:
     input:
         results=expand(R + "/validation/runs/{run}/result.parquet", run=get_validation_runs()),
         curves=expand(R + "/validation/runs/{run}/curve.parquet", run=get_validation_runs()),
+        template=template("validation_summary"),
     output:
-        table=report(R + "/validation/summary.csv", caption="../report/validation_summary.rst",
-                     category="Validation"),
-        figure=report(R + "/validation/load_displacement.png",
-                      caption="../report/validation_figure.rst", category="Validation"),
+        table=report(R + "/validation/summary.csv", caption=caption("validation_summary"), category="Validation"),
+        figure=report(R + "/validation/load_displacement.png", caption=caption("validation_summary"),
+                      category="Validation"),
+        caption=caption("validation_summary"),
     log:
         R + "/logs/validation/summary.log",
     script:

@@ -50,3 +50,18 @@ pd.DataFrame(dict(sigma_v_mpa=levels, prediction=pred, band_sd=band, lg_stepped=
                   as3700_stepped=as_stepped, as3700_line=as_line)).to_csv(
     sm.output.design_table, index=False, float_format="%.5g")
 print(pd.DataFrame(rows).to_string())
+
+eq_lines = [f"- {r['mode']} failure ({r['n']} runs): " + (f"**{r['equation']}**, MAPE **{r['mape_pct']:.1f} %**, "
+            f"alpha {r['alpha']:.3g}" if "alpha" in r else r["equation"]) for r in rows]
+design_lines = []
+for sv in sorted(sim.index):
+    p = float(np.interp(sv, levels, pred))
+    s_as = float(np.interp(sv, levels, as_stepped))
+    design_lines.append(f"- {sv:g} MPa: simulated mean **{sim[sv]:.3f} MPa**, predicted {p:.3f} MPa, "
+                        f"Lourenco-Gaetani stepped {lg[0]:.3f} / brick {lg[1]:.3f} MPa, AS3700 stepped {s_as:.3f} / "
+                        f"line {float(np.interp(sv, levels, as_line)):.3f} MPa")
+F.write_captions(sm.input.templates, sm.output.captions, dict(
+    equations=dict(lines="\n".join(eq_lines)),
+    design_comparison=dict(f_tu=f_tu, f_tj=f_tj, band=float(band[0]) if np.isfinite(band[0]) else float("nan"),
+                           lines="\n".join(design_lines)),
+))

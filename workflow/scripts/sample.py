@@ -6,6 +6,9 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
+import numpy as np  # noqa: E402
+
+from masonrydem.figures import write_caption  # noqa: E402
 from masonrydem.runner import atomic_write  # noqa: E402
 from masonrydem.sampling import STUDY_VARIABLES, study_samples  # noqa: E402
 
@@ -23,3 +26,9 @@ for v in STUDY_VARIABLES:
 check = pd.DataFrame(rows)
 check.to_csv(sm.output.check, index=False, float_format="%.4g")
 print(check.to_string())
+i, j = names.index("E_b"), names.index("f_tu")
+others = np.abs(achieved - np.eye(len(names)))
+others[i, j] = others[j, i] = 0.0
+write_caption(sm.input.template, sm.output.caption, corr=achieved[i, j], other=others.max(),
+              mean_dev=100 * (check.mean_sample / check.mean_target - 1).abs().max(),
+              cov_dev=100 * (check.cov_sample / check.cov_target - 1).abs().max())

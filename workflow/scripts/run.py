@@ -1,4 +1,5 @@
-"""One deterministic run of the scene with a case's overrides."""
+"""One run of the scene with overrides (validation and accuracy runs): its
+row, its curve and, when the rule asks for it, its final state."""
 import sys
 
 import numba
@@ -13,7 +14,7 @@ from masonrydem.runner import run_scene, write_outputs  # noqa: E402
 from masonrydem.scene import load_scene  # noqa: E402
 
 scene = load_scene(sm.input.scene, sm.params.overrides)
-scene["name"] = f"{scene['name']}:{sm.wildcards.case}"
+scene["name"] = ":".join([scene["name"], *sm.wildcards])
 row, curve, specimen, solver = run_scene(scene, progress=True)
-write_outputs(Path(sm.output.result).parent, row, curve, specimen, solver, state=True)
+write_outputs(Path(sm.output.result).parent, row, curve, specimen, solver, state="state" in sm.output.keys())
 print(row)

@@ -1,0 +1,147 @@
+"""What accuracy costs in time: the convergence reference, the Pareto front
+of error against run time, the knee, and power-law cost fits.
+
+A sweep table has one row per run with at least: case, setting, P_max_kN,
+failure_mode, ok, wall_time_s; grid runs also cells_n (cells along a unit's
+length) and refine (sub-contact refinement).
+"""
+import numpy as np
+import pandas as pd
+from scipy.optimize import brentq
+
+
+def richardson(n, P):
+    """Generalised Richardson extrapolation from three levels of refinement
+    ``n`` (cells per edge, any ratios) with results ``P``, assuming
+    P(n) = P_inf + C n^-p.  Returns (P_inf, p), or (nan, nan) when the three
+    results are not monotone (no asymptotic range: no estimate)."""
+    n = np.asarray(n, float)
+    P = np.asarray(P, float)
+    order = np.argsort(n)
+    n, P = n[order], P[order]
+    d1, d2 = P[1] - P[0], P[2] - P[1]
+    if d1 == 0 or d2 == 0 or np.sign(d1) != np.sign(d2):
+        return np.nan, np.nan
+    h = 1.0 / n
+    ratio = d1 / d2
+
+    def f(p):
+        return (h[1] ** p - h[0] ** p) / (h[2] ** p - h[1] ** p) - ratio
+
+    lo, hi = 0.05, 8.0
+    if f(lo) * f(hi) > 0:
+        return np.nan, np.nan
+    p = brentq(f, lo, hi, xtol=1e-12)
+    C = d2 / (h[2] ** p - h[1] ** p)
+    return float(P[2] - C * h[2] ** p), float(p)
+
+
+def reference(path, band=0.01):
+    """Converged reference of one case from its refinement path (a table of
+    cells_n and P_max_kN at the finest sub-contact refinement).  Evidence,
+    in order: the last two levels within 0.5 % (the finest level); a
+    Richardson estimate from the three finest, when they are monotone; the
+    mean of the three finest when they all lie within +-``band`` of it
+    (a converged but scattered path: the band is the reference's
+    uncertainty); else the finest level, flagged as not converged."""
+    path = path.sort_values("cells_n")
+    n, P = path["cells_n"].to_numpy(float), path["P_max_kN"].to_numpy(float)
+    last_two = abs(P[-1] - P[-2]) / abs(P[-1]) if len(P) >= 2 else np.nan
+    P_inf, p = richardson(n[-3:], P[-3:]) if len(P) >= 3 else (np.nan, np.nan)
+    mean3 = P[-3:].mean()
+    spread = np.max(np.abs(P[-3:] / mean3 - 1.0)) if len(P) >= 3 else np.nan
+    if last_two <= 0.005:
+        value, method = P[-1], "last two levels within 0.5 %"
+    elif np.isfinite(P_inf):
+        value, method = P_inf, f"Richardson, three finest levels (order {p:.2f})"
+    elif spread <= band:
+        value, method = mean3, (f"mean of the three finest levels, which lie within +-{100 * spread:.2f} % of it "
+                                "(not monotone: no Richardson estimate)")
+    else:
+        value, method = P[-1], "NOT CONVERGED: finest level"
+    return dict(reference_kN=float(value), method=method, order=p, finest_kN=float(P[-1]),
+                finest_n=int(n[-1]), last_two_diff=float(last_two), spread3=float(spread),
+                finest_error=float(P[-1] / value - 1.0))
+
+
+def pareto_front(cost, error):
+    """Indices of the runs not dominated in (cost, |error|), by cost."""
+    cost, error = np.asarray(cost, float), np.abs(np.asarray(error, float))
+    idx = np.argsort(cost, kind="stable")
+    front, best = [], np.inf
+    for i in idx:
+        if error[i] < best:
+            front.append(int(i))
+            best = error[i]
+    return front
+
+
+def knee(table, tolerance):
+    """The cheapest setting whose P_max is within ``tolerance`` of every
+    case's reference with the reference's failure mode.  ``table``: one row
+    per (setting, case) with error, mode_ok and wall_time_s.  Returns the
+    per-setting table (max |error| over cases, all modes right, total time)
+    sorted by cost, with a 'knee' column."""
+    g = table.groupby("setting").agg(max_abs_error=("error", lambda e: float(np.max(np.abs(e)))),
+                                     modes_ok=("mode_ok", "all"), ok=("ok", "all"),
+                                     total_time_s=("wall_time_s", "sum"), cases=("case", "count"))
+    g = g.reset_index().sort_values("total_time_s", kind="stable").reset_index(drop=True)
+    good = (g["max_abs_error"] <= tolerance) & g["modes_ok"] & g["ok"] & (g["cases"] == g["cases"].max())
+    g["knee"] = False
+    if good.any():
+        g.loc[good.idxmax(), "knee"] = True
+    return g
+
+
+def power_fit(x, y):
+    """Least-squares fit of y = a x^k in log-log.  Returns (a, k)."""
+    k, loga = np.polyfit(np.log(np.asarray(x, float)), np.log(np.asarray(y, float)), 1)
+    return float(np.exp(loga)), float(k)
+
+
+def compare_subsample(default, fine):
+    """Mean and COV of P_max and failure-mode counts of the same samples run
+    with the default and the fine settings, per sigma_v (runs that are not
+    ok in either are excluded and counted)."""
+    keys = ["sigma_v_mpa", "sample"]
+    m = default.merge(fine, on=keys, suffixes=("_default", "_fine"))
+    rows = []
+    for sv, g in m.groupby("sigma_v_mpa"):
+        good = g[g.ok_default & g.ok_fine]
+        row = dict(sigma_v_mpa=sv, runs=len(good), excluded=int(len(g) - len(good)))
+        for s in ("default", "fine"):
+            P = good[f"P_max_kN_{s}"]
+            row[f"mean_kN_{s}"] = P.mean()
+            row[f"cov_{s}"] = P.std(ddof=1) / P.mean()
+            row[f"brick_{s}"] = int((good[f"failure_mode_{s}"] == "brick").sum())
+            row[f"joint_{s}"] = int((good[f"failure_mode_{s}"] == "joint").sum())
+        row["mean_diff"] = row["mean_kN_default"] / row["mean_kN_fine"] - 1.0
+        row["cov_diff"] = row["cov_default"] - row["cov_fine"]
+        row["same_mode"] = int((good.failure_mode_default == good.failure_mode_fine).sum())
+        ratio = good.P_max_kN_default / good.P_max_kN_fine
+        row["ratio_mean"], row["ratio_cov"] = ratio.mean(), ratio.std(ddof=1) / ratio.mean()
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def sweep_table(rows, cases, path, band=0.01):
+    """The sweep's rows (one per run: case, setting and the run's result)
+    with, per case, the error against the converged reference (from the
+    settings of the refinement ``path``) and whether the failure mode is the
+    reference's (that of the finest path run).  Returns (table, convergence)
+    where convergence has one row per case."""
+    t = pd.DataFrame(rows)
+    t["cells_n"] = t["cells"].str.split("x").str[0].astype(int)
+    t["grid"] = t["setting"].str.match(r"^c\d+x\d+x\d+_r\d+$")
+    conv = []
+    for case in cases:
+        c = t[t.case == case]
+        runs = c[c.setting.isin(path) & c.ok].sort_values("cells_n")
+        ref = reference(runs, band)
+        finest = runs.iloc[-1]
+        conv.append(dict(case=case, **ref, reference_mode=finest.failure_mode,
+                         levels=" ".join(f"{s}:{p:.4g}" for s, p in zip(runs.setting, runs.P_max_kN))))
+        t.loc[t.case == case, "error"] = c.P_max_kN / ref["reference_kN"] - 1.0
+        t.loc[t.case == case, "mode_ok"] = c.failure_mode == finest.failure_mode
+    t["mode_ok"] = t["mode_ok"].astype(bool)
+    return t, pd.DataFrame(conv)

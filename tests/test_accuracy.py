@@ -1,0 +1,108 @@
+"""The accuracy study's arithmetic: convergence reference, Pareto front,
+knee, power-law fits, subsample comparison; and the scope of the solver
+hash that decides which runs a source change reruns."""
+import ast
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import masonrydem
+from masonrydem import accuracy
+
+
+def test_richardson_recovers_limit_and_order():
+    """P(n) = 10 + 3 n^-1.5 on non-uniform levels 4, 6, 8: the limit 10 and
+    the order 1.5 are recovered to round-off."""
+    n = np.array([4.0, 6.0, 8.0])
+    P_inf, p = accuracy.richardson(n, 10 + 3 * n ** -1.5)
+    assert P_inf == pytest.approx(10.0, abs=1e-9) and p == pytest.approx(1.5, abs=1e-7)
+
+
+def test_richardson_refuses_non_monotone_levels():
+    assert np.isnan(accuracy.richardson([4, 6, 8], [15.0, 14.0, 14.5])[0])
+
+
+def test_reference_evidence():
+    """Last two levels within 0.5 %: the finest is the reference; otherwise
+    Richardson; otherwise the mean of the three finest if they agree within
+    +-1 %; otherwise flagged as not converged."""
+    path = pd.DataFrame(dict(cells_n=[4, 8, 16], P_max_kN=[12.0, 10.2, 10.19]))
+    assert accuracy.reference(path)["reference_kN"] == 10.19
+    n = np.array([4, 8, 16])
+    r = accuracy.reference(pd.DataFrame(dict(cells_n=n, P_max_kN=5 + 8.0 / n)))
+    assert r["reference_kN"] == pytest.approx(5.0) and r["order"] == pytest.approx(1.0)
+    r = accuracy.reference(pd.DataFrame(dict(cells_n=n, P_max_kN=[5.0, 4.0, 4.5])))
+    assert r["method"].startswith("NOT CONVERGED")
+    # scattered but converged: the three finest within +-1 % of their mean
+    r = accuracy.reference(pd.DataFrame(dict(cells_n=[4, 8, 12, 16], P_max_kN=[12.0, 10.0, 10.15, 10.05])))
+    assert r["reference_kN"] == pytest.approx(30.2 / 3) and r["method"].startswith("mean of the three finest")
+
+
+def test_pareto_front():
+    """A run is on the front when no cheaper run is at least as accurate."""
+    cost = [1, 2, 3, 4, 5]
+    err = [0.10, 0.12, 0.05, 0.05, -0.01]
+    assert accuracy.pareto_front(cost, err) == [0, 2, 4]
+
+
+def test_knee_is_cheapest_setting_within_tolerance_with_right_modes():
+    t = pd.DataFrame(dict(
+        setting=["a", "a", "b", "b", "c", "c"], case=["x", "y"] * 3,
+        error=[0.05, 0.01, 0.01, -0.015, 0.005, 0.001],
+        mode_ok=[True, True, True, False, True, True], ok=[True] * 6,
+        wall_time_s=[1, 1, 2, 2, 8, 8]))
+    k = accuracy.knee(t, 0.02)
+    assert list(k.setting) == ["a", "b", "c"]
+    assert k.loc[k.knee, "setting"].item() == "c"           # a: 5 % off; b: wrong mode in case y
+    assert k.loc[k.setting == "b", "max_abs_error"].item() == pytest.approx(0.015)
+
+
+def test_power_fit():
+    x = np.array([1.0, 2.0, 4.0, 8.0])
+    a, k = accuracy.power_fit(x, 2.0 * x ** 1.7)
+    assert a == pytest.approx(2.0) and k == pytest.approx(1.7)
+
+
+def test_compare_subsample():
+    """Default runs 10 % above the fine ones, sample by sample: mean 10 %
+    higher, COV equal, ratio constant; a failed run is excluded and
+    counted; modes counted per setting."""
+    fine = pd.DataFrame(dict(sigma_v_mpa=0.0, sample=range(5), P_max_kN=[10.0, 12, 9, 11, 13],
+                             failure_mode=["joint"] * 4 + ["brick"], ok=True))
+    default = fine.assign(P_max_kN=1.1 * fine.P_max_kN, failure_mode=["joint"] * 5)
+    default.loc[4, "ok"] = False
+    r = accuracy.compare_subsample(default, fine).iloc[0]
+    assert r.runs == 4 and r.excluded == 1
+    assert r.mean_diff == pytest.approx(0.1) and r.cov_diff == pytest.approx(0.0, abs=1e-12)
+    assert r.ratio_mean == pytest.approx(1.1) and r.ratio_cov == pytest.approx(0.0, abs=1e-12)
+    assert r.brick_fine == 0 and r.joint_default == 4 and r.same_mode == 4
+
+
+def _local_imports(path):
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and node.level == 1:
+            if node.module:
+                out.add(node.module.split(".")[0] + ".py")
+            else:
+                out.update(a.name + ".py" for a in node.names)
+    return out
+
+
+def test_solver_hash_covers_everything_a_simulation_runs():
+    """Every package module that a simulation imports (runner and study,
+    transitively) is in the hash, so that changing it reruns the
+    simulations; the analysis modules are not."""
+    pkg = Path(masonrydem.__file__).parent
+    seen, todo = set(), ["runner.py", "study.py"]
+    while todo:
+        name = todo.pop()
+        if name in seen or not (pkg / name).exists():
+            continue
+        seen.add(name)
+        todo.extend(_local_imports(pkg / name))
+    assert seen <= set(masonrydem.SIMULATION_SOURCES), seen - set(masonrydem.SIMULATION_SOURCES)
+    assert "scene_schema.yaml" in masonrydem.SIMULATION_SOURCES
+    assert not {"analysis.py", "figures.py", "accuracy.py"} & set(masonrydem.SIMULATION_SOURCES)
