@@ -1,4 +1,6 @@
 """Failure classification on constructed cases (study.md, 6)."""
+import math
+
 import pytest
 
 from masonrydem.runner import run_scene
@@ -56,15 +58,17 @@ def test_stronger_joints_carry_more(brick_case, joint_case):
 
 
 def test_start_up_transient_does_not_stop_the_run():
-    """The load-drop stop compares the load with peaks reached near
-    equilibrium.  On a fine mesh (12x6x6 cells per unit) the stiff strips
-    first meet nearly motionless face nodes: the load spikes to about
-    2.3 kN within 250 steps, at an unbalanced-force ratio above 1, and
-    falls below half of that by step 500, long before the real peak
-    (about 13 kN).  That spike is not a peak: the run must go on."""
+    """A peak counts only near equilibrium and after the velocity ramp
+    (solver.History).  On a fine mesh (12x6x6 cells per unit) the stiff
+    strips first meet nearly motionless face nodes: during the 2,000-step
+    ramp the load rises to kilonewtons at an unbalanced-force ratio above
+    0.5 and wavers (measured before this rule: a 2.3 kN spike after 250
+    steps that fell to half by step 500 and stopped the run by its load
+    drop, long before the real 13 kN peak).  After 1,000 steps, all within
+    the ramp: no peak yet, and the run went on to its step limit."""
     row, curve, _, _ = run_scene(load_scene(WILLIS, ["numerics.cells=[12, 6, 6]",
                                                      "loading.bending.max_steps=1000"]), progress=False)
-    spike = curve[curve["step"] <= 500]
-    assert spike["load_kN"].max() > 2 * spike["load_kN"].iloc[-1]       # the transient is there
-    assert spike.loc[spike["load_kN"].idxmax(), "ratio"] > 1.0            # ... and it is dynamic
+    dynamic = curve[curve["ratio"] > 0.5]
+    assert dynamic["load_kN"].max() > 1.0                                 # the transient is there, dynamic
+    assert math.isnan(row["P_max_kN"])                                    # ... it is not a peak
     assert row["status"] == "max_steps"                                   # ... and it did not stop the run

@@ -36,6 +36,12 @@ def test_smoke_study_outputs(smoke):
     # same samples at every level: the inputs of a sample do not depend on sigma_v
     ns = runs[runs.variant == "nonspatial"].pivot(index="sample", columns="sigma_v_mpa", values="f_tj_mpa")
     assert (ns[0.0] == ns[0.5]).all()
+    # 3-D pictures per variant and mode; a pictured run is run again and must
+    # repeat its recorded P_max exactly (the script refuses otherwise)
+    for v in ("nonspatial", "spatial"):
+        for m in ("joint", "brick"):
+            assert (smoke / "study" / "pictures" / f"{v}_{m}.png").stat().st_size > 0
+    assert "repeated exactly" in (smoke / "report" / "study_pictures.rst").read_text()
 
 
 def test_smoke_validation_outputs(smoke):

@@ -585,7 +585,8 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
     reaction (sum of -F along its direction) and the mean displacement].
     The ratio is sum |F| over free components / sum of |applied| forces
     (external, gravity, and reactions of the constrained components).
-    ``work[0]`` accumulates the work done on the model: reactions times the
+    ``work[0]`` accumulates the work done on the model (``work[1]``: its
+    largest value so far, step by step): reactions times the
     prescribed velocities and applied forces times the free velocities.
     Returns (status, steps done); status ST_NONFINITE stops at the first
     step whose kinetic energy is not finite."""
@@ -633,6 +634,8 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
                 v[i, d] = vv
                 u[i, d] += dt * vv
         work[0] += dt * wk
+        if work[0] > work[1]:
+            work[1] = work[0]
         if applied > 0.0:
             hist[step, 0] = unbal / applied
         else:

@@ -17,7 +17,7 @@ import pandas as pd
 from . import __version__, source_hash
 from .classify import classify
 from .scene import build, strength
-from .solver import Solver
+from .solver import PEAK_RATIO, Solver
 
 GOOD = ("load_drop", "displacement_limit")
 DROP_WINDOW = 1e-4   # m: 'drop_after_peak' is the load lost within this displacement after the peak
@@ -92,7 +92,11 @@ def run_scene(scene, progress=True):
     H = s.history.array()
     H = H[H[:, 0] > start] if H.size else np.zeros((0, 5))
     # no bending stage (the precompression failed): no peak
-    peak_P, peak_u, peak_step = s.history.peak.get(0) if bent and 0 in s.history.peak else (math.nan,) * 2 + (-1,)
+    peak_P, peak_u, peak_step, peak_ratio = (s.history.peak[0] if bent and 0 in s.history.peak
+                                             else (math.nan, math.nan, -1, math.nan))
+    # after the peak: did the run stay near equilibrium, or did it snap (a
+    # sudden crack that displacement control cannot follow, carried by inertia)?
+    after_ratio = float(H[H[:, 0] > peak_step, 1].max()) if H.size and (H[:, 0] > peak_step).any() else math.nan
     after = H[(H[:, 4] >= peak_u) & (H[:, 4] <= peak_u + DROP_WINDOW)] if H.size else H
     drop = 1.0 - after[:, 3].min() / peak_P if after.size and peak_P > 0 else math.nan
     if H.shape[0]:
@@ -113,6 +117,10 @@ def run_scene(scene, progress=True):
         precompression_status=pre_status,
         steps=int(s.step),
         peak_step=int(peak_step),
+        ratio_at_peak=peak_ratio,
+        max_ratio_after_peak=after_ratio,
+        post_peak=("none" if math.isnan(after_ratio) else "dynamic" if after_ratio >= PEAK_RATIO
+                   else "quasi-static"),
         tets=int(s.b["tets"].shape[0]),
         subcontacts=int(s.js.shape[0]),
         max_rotation_rad=s.max_rotation(),

@@ -59,8 +59,13 @@ def get_study_runs(kind):
                   sv=s["precompression_mpa"], sample=range(s["n_samples"]))
 
 
+def study_pictures():
+    """(variant, failure mode) of the study's 3-D pictures."""
+    return [(v, m) for v in config["study"]["variants"] for m in ("joint", "brick")]
+
+
 def get_study_outputs():
-    return [R + "/study/" + name for name in (
+    return [R + f"/study/pictures/{v}_{m}.png" for v, m in study_pictures()] + [R + "/study/" + name for name in (
         "statistics.csv", "correlations.csv", "increase.csv", "sampling_check.csv", "running_mean.png", "brick_share.png",
         "correlation_vs_sigma.png", "scatter_deviation.png", "curves_by_mode.png", "equations.csv",
         "predicted_vs_simulated.png", "design_comparison.png")]
@@ -75,10 +80,10 @@ def grid_setting(cells, refine):
 
 
 def accuracy_grid():
-    """Setting id -> overrides of the mesh runs: the grid cells x
-    sub-contacts, the extra candidates and the finer path levels.  They run
-    on the scene's own loading and stop settings (not config numerics), so
-    that the mesh study stands on its own when the defaults change."""
+    """Setting id -> mesh overrides: the grid cells x sub-contacts, the
+    extra candidates and the finer path levels (on top of config numerics,
+    like every accuracy run: the references then have the defaults' loading
+    rate and stops, and the defaults' error is the mesh error alone)."""
     out = {}
     for cells in A["cells"]:
         for r in A["subcontact_refine"]:
@@ -93,8 +98,8 @@ def accuracy_grid():
 
 
 def accuracy_oat(case):
-    """Setting id -> overrides of the runs on config numerics: the defaults
-    themselves and one setting changed at a time."""
+    """Setting id -> overrides of the defaults themselves and of one
+    setting changed at a time."""
     out = {"default": []}
     for s in A["settings"]:
         if case in s.get("cases", [c["name"] for c in A["cases"]]):
@@ -110,10 +115,8 @@ def path_cells():
 
 def get_accuracy_overrides(wildcards):
     case = {c["name"]: c["overrides"] for c in A["cases"]}[wildcards.case]
-    grid = accuracy_grid()
-    if wildcards.setting in grid:
-        return effective(case, grid[wildcards.setting])
-    return effective(config["numerics"], case, accuracy_oat(wildcards.case)[wildcards.setting])
+    setting = {**accuracy_grid(), **accuracy_oat(wildcards.case)}[wildcards.setting]
+    return effective(config["numerics"], case, setting)
 
 
 def get_accuracy_runs(kind):

@@ -1,0 +1,272 @@
+"""Hard cases stay numerically stable (issue 6): the critical step with
+damping, energy, damping, and the wallette at the tails of the study's
+distributions, at high precompression, with dry joints and with tiny
+fracture energies.  Wallette cases are those of config/config.yaml
+(hard_cases), run at the study's numerics; the report tabulates the same
+cases (results/stability/hard_cases.csv)."""
+import math
+import multiprocessing
+import os
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+import pytest
+import yaml
+
+from masonrydem import Elastic, Model, Solver
+from masonrydem import kernels as K
+
+pytestmark = pytest.mark.stability
+
+CONFIG = yaml.safe_load(open("config/config.yaml"))
+WILLIS = "config/scenes/willis.yaml"
+
+
+# --- the explicit scheme -----------------------------------------------------------
+def _column():
+    """An elastic column, 0.1 x 0.1 x 0.3 m, 2 x 2 x 6 cells, base fixed."""
+    m = Model()
+    m.add_box([0, 0, 0], [0.1, 0.1, 0.3], (2, 2, 6), Elastic(10e9, 0.2, density=2000.0))
+    m.fix(m.select(lambda x: x[:, 2] < 1e-9))
+    return m
+
+
+def _kick(s, amplitude=0.1):
+    """A bending-like initial velocity, v_x = a (z / H)^2."""
+    x = s.b["x0"]
+    s.v[:, 0] = amplitude * (x[:, 2] / 0.3) ** 2
+    s.v[s.fixed > 0] = 0.0
+
+
+def _largest_eigenvalue(m):
+    """lambda_max of M^-1 K (physical masses) by power iteration, K applied
+    through the solver's own force computation: with the stresses reset, one
+    step with velocity w gives the internal force -K w dt."""
+    s = Solver(m, mode="dynamic", damping=0.0)
+    free = s.fixed == 0
+    w = np.where(free, np.random.default_rng(0).standard_normal(s.v.shape), 0.0)
+    lam = 0.0
+    for _ in range(3000):
+        s.stress[:] = 0.0
+        s.u[:] = 0.0
+        s.v[:] = w
+        s.cycle(1)
+        y = np.where(free, -s.f / (s.dt * s.mass[:, None]), 0.0)
+        lam = np.linalg.norm(y) / np.linalg.norm(w)
+        w = y / np.linalg.norm(y)
+    return lam
+
+
+def test_critical_step_counts_the_damping():
+    """Local damping multiplies a force opposing the velocity by 1 + alpha,
+    and in the highest mode every force opposes the velocity: central
+    differences are stable below 2 / sqrt((1 + alpha) lambda_max), not
+    2 / sqrt(lambda_max).  On the column (lambda_max by power iteration):
+    undamped, 0.97 of 2 / sqrt(lambda) is stable; with alpha = 0.8 the same
+    step diverges, 1.03 x 2 / sqrt(1.8 lambda) diverges and 0.97 x of it is
+    stable.  The solver's critical step (Gershgorin) lies below the true
+    one, and a step above it is refused."""
+    m = _column()
+    lam = _largest_eigenvalue(m)
+    undamped, damped = 2.0 / math.sqrt(lam), 2.0 / math.sqrt(1.8 * lam)
+
+    def status(alpha, dt):
+        s = Solver(m, mode="dynamic", damping=alpha)
+        s.dt = dt
+        s.v[:] = np.where(s.fixed == 0, np.random.default_rng(1).standard_normal(s.v.shape) * 1e-3, 0.0)
+        return s.run(20_000).status
+
+    assert status(0.0, 0.97 * undamped) == "max_steps"
+    assert status(0.8, 0.97 * undamped) == "diverged"
+    assert status(0.8, 1.03 * damped) == "diverged"
+    assert status(0.8, 0.97 * damped) == "max_steps"
+    assert Solver(m, mode="dynamic", damping=0.8).dt_crit <= damped
+    with pytest.raises(Exception, match="solver.dt"):
+        Solver(m, mode="dynamic", damping=0.8, dt=1.01 * Solver(m, mode="dynamic", damping=0.8).dt_crit)
+
+
+def _strain_energy(s):
+    """Sum over zones of w V (s:s / (4 G) + p^2 / (2 K)) (elastic)."""
+    st, b = s.stress, s.b
+    p = st[:, :3].mean(axis=1)
+    ss = ((st[:, :3] - p[:, None]) ** 2).sum(axis=1) + 2.0 * (st[:, 3:] ** 2).sum(axis=1)
+    return float(np.sum(b["vol"] * b["wt"] * (ss / (4.0 * b["zp"][:, K.ZP_G]) + p ** 2 / (2.0 * b["zp"][:, K.ZP_K]))))
+
+
+def test_undamped_vibration_conserves_energy():
+    """Free vibration at 0.9 of the critical step, no damping, 10,000 steps:
+    central differences conserve E_n = 1/2 v(n-1/2) M v(n+1/2) + W(u_n)
+    exactly for a linear system, so it stays constant to round-off (the
+    issue asks 1 %; we hold 1e-9), which also checks that the zone forces
+    are the gradient of the strain energy (mixed discretization included)."""
+    s = Solver(_column(), mode="dynamic", safety=0.9)
+    _kick(s)
+    free = s.fixed == 0
+    energy = []
+    for _ in range(100):
+        s.run(99)
+        before = s.v.copy()
+        s.run(1)
+        energy.append(0.5 * np.sum((s.mass[:, None] * before * s.v)[free]) + _strain_energy(s))
+    energy = np.array(energy)
+    assert s.step == 10_000 and energy[0] > 0
+    assert np.abs(energy / energy[0] - 1.0).max() < 1e-9
+
+
+def test_damping_dissipates_kinetic_energy():
+    """With local damping (alpha = 0.8) at 0.9 of the critical step the
+    kinetic energy decays: its maximum over each 1,000-step window never
+    grows, and after 10,000 steps it is below 1e-12 of the initial."""
+    s = Solver(_column(), mode="dynamic", damping=0.8, safety=0.9, record_every=1)
+    _kick(s)
+    ke0 = 0.5 * np.sum(s.mass[:, None] * s.v ** 2)
+    assert s.run(10_000).status == "max_steps"
+    ke = s.history.array()[:, 2]
+    windows = ke[: ke.size // 1000 * 1000].reshape(-1, 1000).max(axis=1)
+    assert (np.diff(windows) <= 0).all()
+    assert ke[-1] < 1e-12 * ke0
+
+
+def test_energy_guard_catches_a_slow_blow_up_and_only_that():
+    """The energy guard stops a run whose kinetic energy exceeds 10 / (1 - c)
+    times the most energy put in (Solver._divergence).  On the column under
+    a suddenly applied load, undamped: at 0.98 of the true critical step
+    2 / sqrt(lambda_max) the run is stable and passes (c set to its largest
+    value, 0.999, as the Gershgorin critical step lies below); so do runs
+    at 0.9 and 0.99 of the solver's critical step.  A slow blow-up, energy
+    pumped in by a small negative damping (alpha = -0.01, which set-up
+    would refuse), is stopped by the guard, before any node moves 10 % of a
+    zone in one step.  (Before the 1 / (1 - c), the guard stopped stable
+    runs: near the critical step the kinetic energy at v(t+dt/2) exceeds
+    the energy put in.)"""
+    m = _column()
+    m.add_force(m.select(lambda x: x[:, 2] > 0.3 - 1e-9), [0, 0, -100.0])
+    critical = 2.0 / math.sqrt(_largest_eigenvalue(m))
+    s = Solver(m, mode="dynamic")
+    s.dt, s._c = 0.98 * critical, 0.999
+    assert s.run(100_000).status == "max_steps"
+    for safety in (0.9, 0.99):
+        assert Solver(m, mode="dynamic", safety=safety).run(100_000).status == "max_steps"
+    s = Solver(m, mode="dynamic")
+    s.alpha = -0.01
+    res = s.run(100_000)
+    assert res.status == "diverged" and "energy blow-up" in res.message
+
+
+# --- the wallette: hard cases at the study's numerics ------------------------------
+HARD = {c["name"]: c for c in CONFIG["hard_cases"]}
+HALF_RATE = ("reference", "ftj_0.05", "ftj_1.2")
+# the property extremes (and the reference, and the strong joints they are
+# compared with), whose pre-peak branch must be monotone; the other cases
+# (precompression, dry joints: friction slips; tiny fracture energies: they
+# snap from the first crack on) must give a trustworthy peak or a clear status
+EXTREMES = ("reference", "ftj_0.05", "ftj_1.2", "strong_joints", "ftu_1.5", "ftu_7", "Eb_5", "Eb_35", "phi_25",
+            "phi_45", "spatial_Eb_5x")
+RATE = float(next(o for o in CONFIG["numerics"] if o.startswith("loading.bending.rate=")).split("=")[1])
+# the symmetric wallette: stack bond (every course over [0, 960] mm), supports
+# and loads symmetric about its centre; loaded to 0.05 mm, before cracking
+# (once cracks localise, one side may crack first: symmetry may break)
+SYMMETRIC = ["geometry.bond_offset=0.0", "loading.bending.supports_x=[0.075, 0.885]",
+             "loading.bending.loads_x=[0.350, 0.610]", "loading.bending.max_displacement=0.05e-3"]
+
+
+def _run(overrides):
+    os.environ["NUMBA_NUM_THREADS"] = "1"
+    from masonrydem.runner import run_scene
+    from masonrydem.scene import load_scene
+    row, curve, specimen, s = run_scene(load_scene(WILLIS, CONFIG["numerics"] + overrides), progress=False)
+    row["support_reactions"] = [float(s.f[st.node, 1]) for st in specimen.supports]   # N, wall on support
+    return row, curve
+
+
+@pytest.fixture(scope="module")
+def runs():
+    """Every hard case, three of them again at half the loading rate, and the
+    symmetric wallette: two at a time (two cores), one thread each."""
+    jobs = {name: c["overrides"] for name, c in HARD.items()}
+    jobs.update({f"{n}@half_rate": HARD[n]["overrides"] + [f"loading.bending.rate={RATE / 2}",
+                                                            "loading.bending.ramp_steps=4000"] for n in HALF_RATE})
+    jobs["symmetric"] = SYMMETRIC
+    with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn")) as ex:
+        return dict(zip(jobs, ex.map(_run, jobs.values())))
+
+
+def _pre_peak_dip(curve, P):
+    """Largest fall of the load below its running maximum on the way to the
+    peak, as a fraction of P, over the states near equilibrium (unbalanced-
+    force ratio below PEAK_RATIO) above half the peak (below it lies the
+    start-up transient of the loading strips)."""
+    from masonrydem.solver import PEAK_RATIO
+    eq = curve[curve["ratio"] < PEAK_RATIO]
+    pre = eq.loc[:eq["load_kN"].idxmax()]
+    pre = pre[pre["load_kN"] >= 0.5 * P]
+    return float((pre["load_kN"].cummax() - pre["load_kN"]).max() / P)
+
+
+@pytest.mark.parametrize("name", list(HARD))
+def test_hard_case(runs, name):
+    """Each hard case ends with a usable status and a finite peak reached
+    near equilibrium; its failure mode is the one its strengths call for;
+    the post-peak branch is labelled quasi-static or dynamic (a snap the
+    displacement control cannot follow), never left unsaid; and for the
+    property extremes the pre-peak branch is monotone (no fall of more than
+    5 % of the peak above half of it: a single joint cracking sheds a few
+    per cent, as measured, an oscillating or collapsing branch more)."""
+    from masonrydem.solver import PEAK_RATIO
+    row, curve = runs[name]
+    expect = HARD[name]["expect"]
+    assert row["ok"], f"{row['status']}: {row['message']}"
+    P = row["P_max_kN"]
+    assert math.isfinite(P) and P > 0
+    assert row["ratio_at_peak"] < PEAK_RATIO
+    if name in EXTREMES:
+        assert _pre_peak_dip(curve, P) < 0.05
+    if expect != "any":
+        assert row["failure_mode"] == expect, row["classification"]
+    # a run stopped at its displacement limit while still rising has no
+    # post-peak branch, and its status says so
+    assert row["post_peak"] in ("quasi-static", "dynamic") or (
+        row["post_peak"] == "none" and row["status"] == "displacement_limit")
+
+
+def test_smaller_fracture_energy_never_carries_more(runs):
+    """Snap-back cases: a 20 x smaller G_f of the units cannot raise the
+    peak of the strong-joints wallette, nor a 30 x smaller G_I that of the
+    reference (before the fix the peak of tiny G_f was a dynamic overshoot,
+    35 kN against 27 kN); both snap after the peak, and say so."""
+    for tiny, base in (("tiny_Gf", "strong_joints"), ("tiny_GI", "reference")):
+        assert runs[tiny][0]["P_max_kN"] <= runs[base][0]["P_max_kN"]
+        assert runs[tiny][0]["post_peak"] == "dynamic"
+
+
+def test_precompression_raises_the_peak(runs):
+    """More precompression, more capacity: P_max grows from 0 to 0.5, 1
+    and 2 MPa."""
+    P = [runs[n][0]["P_max_kN"] for n in ("reference", "sv_0.5", "sv_1", "sv_2")]
+    assert P == sorted(P)
+
+
+@pytest.mark.parametrize("name", [
+    "reference",
+    # open (issue 6): at the default rate the weak joints peak 1,800 steps
+    # after the velocity ramp, at an unbalanced-force ratio of 0.07, and half
+    # the rate lowers P_max by 3.7 %
+    pytest.param("ftj_0.05", marks=pytest.mark.xfail(strict=True, reason="rate-dependent at the default rate")),
+    "ftj_1.2"])
+def test_half_rate_changes_the_peak_by_less_than_2_percent(runs, name):
+    P, P_half = runs[name][0]["P_max_kN"], runs[f"{name}@half_rate"][0]["P_max_kN"]
+    assert abs(P_half / P - 1.0) < 0.02
+    assert runs[name][0]["failure_mode"] == runs[f"{name}@half_rate"][0]["failure_mode"]
+
+
+def test_symmetric_wallette_has_equal_support_reactions(runs):
+    """Stack bond with supports and loads symmetric about the centre: the two
+    support reactions agree within 1 %, and together they carry the load
+    of the load strips up to the unbalanced force (ratio r of the applied
+    forces, about 2 P: |R0 + R1 - P| <= 2 r P)."""
+    row, curve = runs["symmetric"]
+    r0, r1 = row["support_reactions"]
+    P, ratio = curve["load_kN"].iloc[-1] * 1e3, curve["ratio"].iloc[-1]
+    assert row["status"] == "displacement_limit" and row["cracked_units"] == 0
+    assert abs(r0 - r1) < 0.01 * max(r0, r1)
+    assert abs(r0 + r1 - P) <= 2.0 * ratio * P
