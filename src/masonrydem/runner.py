@@ -96,7 +96,8 @@ def run_scene(scene, progress=True):
                                              else (math.nan, math.nan, -1, math.nan))
     # after the peak: did the run stay near equilibrium, or did it snap (a
     # sudden crack that displacement control cannot follow, carried by inertia)?
-    after_ratio = float(H[H[:, 0] > peak_step, 1].max()) if H.size and (H[:, 0] > peak_step).any() else math.nan
+    ratios_after = H[H[:, 0] > peak_step, 1] if peak_step >= 0 else H[:0, 1]
+    after_ratio = float(ratios_after.max()) if ratios_after.size else math.nan
     after = H[(H[:, 4] >= peak_u) & (H[:, 4] <= peak_u + DROP_WINDOW)] if H.size else H
     drop = 1.0 - after[:, 3].min() / peak_P if after.size and peak_P > 0 else math.nan
     if H.shape[0]:

@@ -201,13 +201,12 @@ class Solver:
         keep = (idx + 1) % h.every == 0
         keep[-1] = True
         balanced = (hist[:, 0] < PEAK_RATIO) & loading
-        for g in range(self.ngrp):      # keep each chunk's peak: the run's peak is a recorded row
-            if balanced.any():
-                i = int(np.argmax(np.where(balanced, hist[:, 2 + 2 * g], -np.inf)))
-                keep[i] = True
-                load = hist[i, 2 + 2 * g]
-                if g not in h.peak or load > h.peak[g][0]:
-                    h.peak[g] = (float(load), float(hist[i, 3 + 2 * g]), int(idx[i] + 1), float(hist[i, 0]))
+        for g in range(self.ngrp if balanced.any() else 0):   # each chunk's peak is a recorded row
+            i = int(np.argmax(np.where(balanced, hist[:, 2 + 2 * g], -np.inf)))
+            keep[i] = True
+            load = hist[i, 2 + 2 * g]
+            if g not in h.peak or load > h.peak[g][0]:
+                h.peak[g] = (float(load), float(hist[i, 3 + 2 * g]), int(idx[i] + 1), float(hist[i, 0]))
         h.rows.append(np.column_stack([idx[keep] + 1, hist[keep]]))
         self.last = hist[-1]
 

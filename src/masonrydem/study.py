@@ -44,3 +44,15 @@ def study_scene(base, variant, sample, sigma_v):
         raise ValueError(f"unknown variant {variant!r}")
     sc["loading"]["precompression"]["pressure"] = float(sigma_v)
     return validate_scene(sc)
+
+
+def run_sample(base, samples, variant, sv_mpa, i, progress=True):
+    """One simulation of the study: sample ``i`` of the table ``samples``
+    (variant ``variant``) at the precompression ``sv_mpa`` (MPa) on the scene
+    ``base``.  Returns runner.run_scene's (row, curve, specimen, solver),
+    the row and the curve labelled with variant, sample and sigma_v."""
+    from .runner import run_scene
+    sample = samples[samples["sample"] == i].iloc[0]
+    row, curve, specimen, solver = run_scene(study_scene(base, variant, sample, sv_mpa * 1e6), progress=progress)
+    ids = dict(variant=variant, sample=int(i))
+    return {**ids, **row, "sigma_v_mpa": sv_mpa}, curve.assign(**ids, sigma_v_mpa=sv_mpa), specimen, solver

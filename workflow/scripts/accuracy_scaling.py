@@ -14,20 +14,15 @@ runs = pd.read_csv(sm.input.runs)
 # cells: the refinement path's meshes, first case, coarsest sub-contact refinement
 first = runs.case.iloc[0]
 cells = runs[(runs.case == first) & runs.setting.isin(sm.params.settings) & runs.ok]
-cells = cells.sort_values("cells_n").rename(columns={"cells_n": "cells_along"})
+tables = {"units": units, "cells": cells.sort_values("cells_n").assign(cells=lambda t: t.cells_n)}   # along a unit
 rows, fits = [], {}
-for name, t, x in (("units", units, "units"), ("cells", cells, "cells_along")):
-    t = t.assign(us_per_step=t.wall_time_s / t.steps * 1e6)
-    t[name] = t[x]
+for name, t in tables.items():
+    t["us_per_step"] = t.wall_time_s / t.steps * 1e6
     for col in ("wall_time_s", "us_per_step", "tets"):
         a, k = accuracy.power_fit(t[name], t[col])
         fits[(name, col)] = (a, k)
         rows.append(dict(against=name, quantity=col, exponent=k, coefficient=a,
                          points=" ".join(f"{xx:g}:{yy:.4g}" for xx, yy in zip(t[name], t[col]))))
-    if name == "units":
-        units = t
-    else:
-        cells = t
 table = pd.DataFrame(rows)
 table.to_csv(sm.output.table, index=False, float_format="%.6g")
 print(table.to_string())
@@ -35,4 +30,4 @@ fit_text = "; ".join(f"{r.quantity} ~ {r.against}^{r.exponent:.2f}" for r in tab
                      if r.quantity != "tets")
 figures.write_caption(sm.input.template, sm.output.caption, courses=", ".join(str(c) for c in units.courses)
                       if "courses" in units else "", fits=fit_text)
-figures.accuracy_scaling(units, cells, fits, sm.output.figure)
+figures.accuracy_scaling(tables["units"], tables["cells"], fits, sm.output.figure)

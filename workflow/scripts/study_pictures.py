@@ -17,9 +17,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from masonrydem import figures  # noqa: E402
-from masonrydem.runner import run_scene  # noqa: E402
 from masonrydem.scene import load_scene  # noqa: E402
-from masonrydem.study import study_scene  # noqa: E402
+from masonrydem.study import run_sample  # noqa: E402
 from masonrydem.viz import picture_damage, state_blocks  # noqa: E402
 
 runs = pd.read_parquet(sm.input.runs)
@@ -38,8 +37,7 @@ for (variant, mode), path in zip(sm.params.pictures, sm.output.pictures):
     at = group[group.sigma_v_mpa == sv]
     pick = at.iloc[(at.P_max_kN - at.P_max_kN.median()).abs().argmin()]
     samples = pd.read_parquet(sm.input.samples[sm.params.variants.index(variant)])
-    sample = samples[samples["sample"] == pick["sample"]].iloc[0]
-    row, _, specimen, solver = run_scene(study_scene(base, variant, sample, sv * 1e6), progress=True)
+    row, _, specimen, solver = run_sample(base, samples, variant, sv, pick["sample"])
     same = row["P_max_kN"] == pick.P_max_kN and row["failure_mode"] == pick.failure_mode
     if not same:
         raise RuntimeError(f"{variant} s{pick['sample']} at {sv} MPa: the rerun gives P_max {row['P_max_kN']} kN "
