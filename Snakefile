@@ -14,6 +14,7 @@ include: "workflow/rules/pictures.smk"
 include: "workflow/rules/study.smk"
 include: "workflow/rules/analysis.smk"
 include: "workflow/rules/accuracy.smk"
+include: "workflow/rules/stability.smk"
 
 
 rule all:
@@ -22,3 +23,4 @@ rule all:
         get_validation_outputs(),
         get_study_outputs(),
         get_accuracy_outputs(),
+        get_stability_outputs(),

@@ -155,12 +155,12 @@ def test_energy_guard_catches_a_slow_blow_up_and_only_that():
 
 # --- the wallette: hard cases at the study's numerics ------------------------------
 HARD = {c["name"]: c for c in CONFIG["hard_cases"]}
-HALF_RATE = ("reference", "ftj_0.05", "ftj_1.2")
+HALF_RATE = [n for n, c in HARD.items() if c.get("half_rate")]
 # the property extremes (and the reference, and the strong joints they are
 # compared with), whose pre-peak branch must be monotone; the other cases
 # (precompression, dry joints: friction slips; tiny fracture energies: they
 # snap from the first crack on) must give a trustworthy peak or a clear status
-EXTREMES = ("reference", "ftj_0.05", "ftj_1.2", "strong_joints", "ftu_1.5", "ftu_7", "Eb_5", "Eb_35", "phi_25",
+EXTREMES = ("reference", "ftj_0.05", "ftj_0.1", "ftj_1.2", "strong_joints", "ftu_1.5", "ftu_7", "Eb_5", "Eb_35", "phi_25",
             "phi_45", "spatial_Eb_5x")
 RATE = float(next(o for o in CONFIG["numerics"] if o.startswith("loading.bending.rate=")).split("=")[1])
 # the symmetric wallette: stack bond (every course over [0, 960] mm), supports
@@ -183,9 +183,8 @@ def _run(overrides):
 def runs():
     """Every hard case, three of them again at half the loading rate, and the
     symmetric wallette: two at a time (two cores), one thread each."""
-    jobs = {name: c["overrides"] for name, c in HARD.items()}
-    jobs.update({f"{n}@half_rate": HARD[n]["overrides"] + [f"loading.bending.rate={RATE / 2}",
-                                                            "loading.bending.ramp_steps=4000"] for n in HALF_RATE})
+    from masonrydem.validation import hard_case_jobs
+    jobs = hard_case_jobs(CONFIG)
     jobs["symmetric"] = SYMMETRIC
     with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn")) as ex:
         return dict(zip(jobs, ex.map(_run, jobs.values())))
@@ -247,16 +246,21 @@ def test_precompression_raises_the_peak(runs):
 
 
 @pytest.mark.parametrize("name", [
-    "reference",
-    # open (issue 6): at the default rate the weak joints peak 1,800 steps
-    # after the velocity ramp, at an unbalanced-force ratio of 0.07, and half
-    # the rate lowers P_max by 3.7 %
-    pytest.param("ftj_0.05", marks=pytest.mark.xfail(strict=True, reason="rate-dependent at the default rate")),
-    "ftj_1.2"])
+    # open (issue 6): joints beyond the study's range are rate-dependent at
+    # the default rate.  f_tj = 0.05 MPa: P_max 2.918 kN at the default rate,
+    # 2.810 at half, 2.792 at a quarter (Richardson limit 2.788): +4.6 % and
+    # +0.8 %; the peak comes at an unbalanced-force ratio of 0.07
+    pytest.param(n, marks=pytest.mark.xfail(strict=True, reason="rate-dependent at the default rate"))
+    if n == "ftj_0.05" else n for n in HALF_RATE])
 def test_half_rate_changes_the_peak_by_less_than_2_percent(runs, name):
-    P, P_half = runs[name][0]["P_max_kN"], runs[f"{name}@half_rate"][0]["P_max_kN"]
+    """P_max within 2 % and the same failure mode at half the loading rate
+    (config half_rate: half the numerics' rate, over a ramp twice as long),
+    for the reference, the study's weakest joints and the strongest."""
+    half = dict(o.split("=", 1) for o in CONFIG["half_rate"])
+    assert float(half["loading.bending.rate"]) == RATE / 2
+    P, P_half = runs[name][0]["P_max_kN"], runs[f"{name}_half_rate"][0]["P_max_kN"]
     assert abs(P_half / P - 1.0) < 0.02
-    assert runs[name][0]["failure_mode"] == runs[f"{name}@half_rate"][0]["failure_mode"]
+    assert runs[name][0]["failure_mode"] == runs[f"{name}_half_rate"][0]["failure_mode"]
 
 
 def test_symmetric_wallette_has_equal_support_reactions(runs):

@@ -54,3 +54,33 @@ def figure(table, curves, path):
     fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)
+
+
+def hard_case_jobs(config):
+    """Run id -> scene overrides (after config 'numerics') of the hard cases
+    (config 'hard_cases', issue 6) and of their half-rate reruns
+    ('<name>_half_rate', overrides config 'half_rate')."""
+    jobs = {}
+    for c in config.get("hard_cases", []):
+        jobs[c["name"]] = list(c["overrides"])
+        if c.get("half_rate"):
+            jobs[c["name"] + "_half_rate"] = list(c["overrides"]) + list(config["half_rate"])
+    return jobs
+
+
+def hard_cases_table(results, config):
+    """One row per hard-case run (results: run id -> result row): outcome,
+    peak, steps and the unbalanced-force ratio at the peak; whether the
+    failure mode is the one the strengths call for ('expect'); for a
+    half-rate rerun the change of P_max against its case."""
+    expect = {c["name"]: c["expect"] for c in config["hard_cases"]}
+    rows = []
+    for run, r in results.items():
+        case = run.removesuffix("_half_rate")
+        change = 100.0 * (r["P_max_kN"] / results[case]["P_max_kN"] - 1.0) if run != case else np.nan
+        rows.append(dict(run=run, case=case, expect=expect[case], status=r["status"], ok=r["ok"], failure_mode=r["failure_mode"],
+                         mode_as_expected=expect[case] in ("any", r["failure_mode"]), P_max_kN=r["P_max_kN"],
+                         disp_at_peak_mm=r["disp_at_peak_mm"], steps=r["steps"], peak_step=r["peak_step"],
+                         ratio_at_peak=r["ratio_at_peak"], post_peak=r["post_peak"], wall_time_s=r["wall_time_s"],
+                         half_rate_change_pct=change, message=r["message"]))
+    return pd.DataFrame(rows)

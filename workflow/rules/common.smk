@@ -51,6 +51,10 @@ def get_validation_outputs():
     )
 
 
+def get_stability_outputs():
+    return [R + "/stability/hard_cases.csv"] if config.get("hard_cases") else []
+
+
 def get_study_runs(kind):
     """Every simulation's result (kind 'result') or curve file."""
     s = config["study"]
