@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: reproduce test bench clean-cache
+.PHONY: reproduce test bench bench-reduced clean-cache
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -22,6 +22,12 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench.py
+
+# the reduced models of the wallette (rigid, elastic units) against the full
+# one: P_max change and speed-up per case (snakemake reduced)
+bench-reduced: $(STAMP)
+	$(BIN)/snakemake --cores 2 --quiet progress reduced
+	$(BIN)/python -c "import pandas as pd; print(pd.read_csv('results/reduced/summary.csv').to_string(index=False))"
 
 clean-cache:
 	find src -name __pycache__ -type d -exec rm -rf {} +

@@ -15,6 +15,7 @@ include: "workflow/rules/study.smk"
 include: "workflow/rules/analysis.smk"
 include: "workflow/rules/accuracy.smk"
 include: "workflow/rules/stability.smk"
+include: "workflow/rules/reduced.smk"
 
 
 rule all:
@@ -24,3 +25,4 @@ rule all:
         get_study_outputs(),
         get_accuracy_outputs(),
         get_stability_outputs(),
+        get_reduced_outputs(),

@@ -38,6 +38,8 @@ def test_willis_scene_is_the_study_specimen():
     ("numerics.celss=[4, 2, 2]", "numerics"),
     ("outputs.crack_through=2", "outputs.crack_through"),
     ("geometry.joint_thickness=0", "geometry.joint_thickness"),
+    ("physics.displacements=large", "physics.displacements"),   # deformable blocks are small-displacement
+    ("physics.blocks=plastic", "physics.blocks"),
 ])
 def test_bad_scene_refused_naming_the_field(override, field):
     with pytest.raises(InputError) as e:

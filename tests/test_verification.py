@@ -321,3 +321,60 @@ def test_brittle_coulomb_joint():
     s, H, A = shear_joint(JOINT, 0.0, rate=1e-8, law="brittle_coulomb", travel=1e-4)
     assert H[:, 3].max() == pytest.approx(JOINT.c * A, rel=0.02)
     assert abs(H[-1, 3]) < 1e-9 * JOINT.c * A
+
+
+# --- gravity -------------------------------------------------------------------------
+def test_column_under_gravity_has_stress_rho_g_height_above():
+    """An elastic column (0.1 x 0.1 x 1 m, 10 cells high) under gravity
+    (declared) on a roller base: uniaxial sigma_zz = -rho g (H - z) at the
+    centroid of each cell (the exact field is linear; constant-strain
+    tetrahedra carry its cell mean), within 1 % of rho g H; sigma_xx and
+    sigma_yy vanish (below 1 % of rho g H)."""
+    rho, g, H = 2000.0, 9.81, 1.0
+    m = Model()
+    m.add_box([0, 0, 0], [0.1, 0.1, H], (1, 1, 10), Elastic(E=1e9, nu=0.2, density=rho))
+    base = m.select(lambda x: x[:, 2] < 1e-9)
+    m.fix(base, dofs=[2])
+    m.fix(base[:1], dofs=[0, 1])
+    m.fix(base[1:2], dofs=[1])
+    m.gravity = np.array([0.0, 0.0, -g])
+    s = Solver(m)
+    assert s.run(400_000, ratio_tol=1e-7).status == "converged"
+    b = m.build()
+    zc = b["x0"][b["tets"]].mean(axis=1)[:, 2]
+    cell = np.floor(zc / 0.1).astype(int)
+    w = b["vol"] * b["wt"]
+    for c in range(10):
+        sel = cell == c
+        szz = np.sum(s.stress[sel, 2] * w[sel]) / np.sum(w[sel])
+        assert szz == pytest.approx(-rho * g * (H - 0.1 * (c + 0.5)), abs=0.01 * rho * g * H)
+        for d in (0, 1):
+            assert abs(np.sum(s.stress[sel, d] * w[sel]) / np.sum(w[sel])) < 0.01 * rho * g * H
+
+
+def test_elastic_blocks_never_evaluate_a_yield_function():
+    """The kernel is specialised on the model's zone law: an elastic model
+    runs without any yield check.  Shown by giving its zones a tensile
+    strength of 1 Pa (which an elastic law ignores) and pulling a bar to
+    1e5 times that stress: it stays linear with no plastic strain; the same
+    rows under the Mohr-Coulomb law crack."""
+    results = {}
+    for law in (K.ZONE_ELASTIC, K.ZONE_MOHR_COULOMB):
+        m = Model()
+        m.add_box([0, 0, 0], [0.1, 0.02, 0.02], (4, 1, 1), Elastic(E=1e9, nu=0.0))
+        left = m.select(lambda x: x[:, 0] < 1e-9)
+        right = m.select(lambda x: x[:, 0] > 0.1 - 1e-9)
+        m.fix(left, dofs=[0])
+        m.fix(left[:1], dofs=[1, 2])
+        m.fix(right, dofs=[0], velocity=1e-8)
+        b = m.build()
+        b["zlaw"] = law
+        b["zp"][:, K.ZP_FT] = 1.0
+        b["zp"][:, K.ZP_C] = 1e9
+        b["zp"][:, K.ZP_GF] = 1.0
+        s = Solver(m)
+        s.run(1000)
+        results[law] = (s.stress[:, 0].mean(), s.zs[:, K.ZS_EPT].max())
+    sxx, ept = results[K.ZONE_ELASTIC]
+    assert sxx == pytest.approx(1e9 * 1e-5 / 0.1, rel=0.05) and ept == 0.0
+    assert results[K.ZONE_MOHR_COULOMB][1] > 0.0

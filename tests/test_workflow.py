@@ -62,6 +62,18 @@ def test_smoke_accuracy_outputs(smoke):
         assert "{" not in text and "nan" not in text.lower().split(), c.name
 
 
+def test_smoke_stability_and_reduced_outputs(smoke):
+    """The hard-cases table (a run and its half-rate rerun) and the reduced
+    models' table: every model of the main config on the smoke case, the
+    full model the reference of the others (rigid units never crack)."""
+    hard = pd.read_csv(smoke / "stability" / "hard_cases.csv")
+    assert set(hard.run) == {"reference", "reference_half_rate"}
+    red = pd.read_csv(smoke / "reduced" / "summary.csv")
+    assert set(red.model) == {"full", "elastic", "rigid"} and set(red.case) == {"ref_sv0"}
+    assert red.loc[red.model == "full", "change_pct"].tolist() == [0.0]
+    assert red.loc[red.model == "rigid", "failure_mode"].tolist() == ["joint"]
+
+
 def test_rerun_does_nothing(smoke):
     """Nothing to do after a complete run (outputs are up to date)."""
     r = subprocess.run(SNAKEMAKE + ["-n", "--configfile", "config/smoke.yaml", "--config", f"results={smoke}"],

@@ -16,7 +16,10 @@ from . import kernels as K
 
 def cell_damage(specimen, solver):
     """Per unit: array (nx, ny, nz) of cell damage (volume-weighted mean
-    tensile damage of the cell's 10 tetrahedra) and the cell volumes."""
+    tensile damage of the cell's 10 tetrahedra) and the cell volumes; none
+    for rigid units (they cannot crack)."""
+    if specimen.model.rigid:
+        return []
     b = solver.b
     d = solver.zone_damage()
     wv = b["vol"] * b["wt"]
@@ -62,7 +65,9 @@ def classify(specimen, solver, crack_damage=0.5, crack_through=0.5, broken_joint
     jd = joint_damage(specimen, solver)
     broken = np.flatnonzero(jd >= broken_joint_damage)
     mode = "brick" if through.size else "joint"
-    if through.size:
+    if specimen.model.rigid:
+        why = "joint failure: the units are rigid (they cannot crack)"
+    elif through.size:
         why = (f"brick failure: unit(s) {', '.join(str(u + 1) for u in through)} cracked through "
                f"(a layer of cells at least {crack_through:.0%} cracked; largest {fractions.max():.0%})")
     else:

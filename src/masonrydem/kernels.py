@@ -14,7 +14,8 @@ Conventions
   and the on-disk cache keeps one entry per law actually used.
 
 Zone law ids:   ZONE_ELASTIC, ZONE_MOHR_COULOMB
-Joint law ids:  JOINT_ELASTIC, JOINT_BRITTLE_COULOMB, JOINT_COUPLED, JOINT_BEARING
+Joint law ids:  JOINT_ELASTIC, JOINT_BRITTLE_COULOMB, JOINT_COUPLED, JOINT_BEARING,
+                JOINT_FRICTION
 """
 import math
 
@@ -28,6 +29,7 @@ JOINT_ELASTIC = 0
 JOINT_BRITTLE_COULOMB = 1
 JOINT_COUPLED = 2
 JOINT_BEARING = 3
+JOINT_FRICTION = 4
 
 # --- zone material parameter / state columns -------------------------------
 # zone params (per tetrahedron)
@@ -494,6 +496,38 @@ def joint_brittle_coulomb(s, jp, js, dun, dus1, dus2):
 
 
 @njit(**_INLINE)
+def joint_friction(s, jp, js, dun, dus1, dus2):
+    """Dry contact: no tension, no cohesion, Coulomb friction, and a gap.
+    The total normal displacement e = w_p + sigma_n / k_n (opening
+    positive) is tracked: e > 0 is an open gap (w_p = e, sigma_n = 0, no
+    shear), e < 0 a penetration (sigma_n = k_n e).  Unlike the laws above,
+    whose unloading is elastic from wherever the joint stands, a joint that
+    opened must close its gap before it carries compression again (a
+    rocking block lifts off and lands).  Shear: elastic trial
+    tau += k_s du_s, |tau| <= -sigma_n tan(phi), excess slip into s_p."""
+    kn = jp[s, JP_KN]
+    e = js[s, JS_WP] + js[s, JS_SN] / kn + dun
+    if e > 0.0:
+        js[s, JS_WP] = e
+        js[s, JS_SN] = 0.0
+    else:
+        js[s, JS_WP] = 0.0
+        js[s, JS_SN] = kn * e
+    ks = jp[s, JP_KS]
+    t1 = js[s, JS_T1] + ks * dus1
+    t2 = js[s, JS_T2] + ks * dus2
+    tmax = -js[s, JS_SN] * jp[s, JP_TANPHI]
+    tt = math.sqrt(t1 * t1 + t2 * t2)
+    if tt > tmax:
+        js[s, JS_SP] += (tt - tmax) / ks
+        r = tmax / tt if tt > 0.0 else 0.0
+        t1 *= r
+        t2 *= r
+    js[s, JS_T1] = t1
+    js[s, JS_T2] = t2
+
+
+@njit(**_INLINE)
 def contact_forces(jlaw, dt, v, f, nodes, cnt, w, axes, area, jp, js):
     """Adds the forces of the sub-contacts to ``f``.
 
@@ -538,6 +572,8 @@ def contact_forces(jlaw, dt, v, f, nodes, cnt, w, axes, area, jp, js):
             joint_brittle_coulomb(s, jp, js, dun, du1, du2)
         elif jlaw == JOINT_COUPLED:
             joint_coupled(s, jp, js, dun, du1, du2)
+        elif jlaw == JOINT_FRICTION:
+            joint_friction(s, jp, js, dun, du1, du2)
         elif jlaw == JOINT_BEARING:
             joint_bearing(s, jp, js, dun, du1, du2)
         sn = js[s, JS_SN]
@@ -564,6 +600,57 @@ def contact_forces(jlaw, dt, v, f, nodes, cnt, w, axes, area, jp, js):
 # =============================================================================
 # Time stepping
 # =============================================================================
+@njit(**_INLINE)
+def _advance_dof(i, d, fa, f, v, u, mass, fixed, vpres, vf, alpha, dt):
+    """One translational component of node (or body) i: total force
+    f[i, d] + fa (fa the applied part), then either its prescribed velocity
+    (the force is a reaction) or central differences with local damping.
+    Returns its contributions to (sum |F| free, sum |applied|, kinetic
+    energy, work rate)."""
+    ff = f[i, d] + fa
+    f[i, d] = ff
+    if fixed[i, d]:
+        vv = vf * vpres[i, d]
+        v[i, d] = vv
+        u[i, d] += dt * vv
+        return 0.0, abs(ff), 0.0, -ff * vv
+    vo = v[i, d]
+    damp = alpha * abs(ff)
+    fd = ff
+    if vo > 0.0:
+        fd -= damp
+    elif vo < 0.0:
+        fd += damp
+    m = mass[i]
+    vv = vo + dt * fd / m
+    v[i, d] = vv
+    u[i, d] += dt * vv
+    return abs(ff), abs(fa), 0.5 * m * vv * vv, fa * vv
+
+
+@njit(**_INLINE)
+def _record_step(step, hist, unbal, applied, ke, f, u, mon_nodes, mon_dir, mon_grp):
+    """Row ``step`` of the history: unbalanced-force ratio, kinetic energy,
+    per monitor group the reaction and the summed displacement.  Returns
+    False if the step is not finite."""
+    ngrp = (hist.shape[1] - 2) // 2
+    if applied > 0.0:
+        hist[step, 0] = unbal / applied
+    else:
+        hist[step, 0] = 0.0 if unbal == 0.0 else np.inf
+    hist[step, 1] = ke
+    for gi in range(ngrp):
+        hist[step, 2 + 2 * gi] = 0.0
+        hist[step, 3 + 2 * gi] = 0.0
+    for k in range(mon_nodes.shape[0]):
+        gi = mon_grp[k]
+        nd = mon_nodes[k]
+        d = mon_dir[k]
+        hist[step, 2 + 2 * gi] -= f[nd, d]
+        hist[step, 3 + 2 * gi] += u[nd, d]
+    return math.isfinite(ke) and math.isfinite(hist[step, 0])
+
+
 @njit(**_CACHE)
 def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
               u, v, f, mass, mgrav, fixed, vpres, fext, x0,
@@ -591,7 +678,6 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
     Returns (status, steps done); status ST_NONFINITE stops at the first
     step whose kinetic energy is not finite."""
     nn = u.shape[0]
-    ngrp = (hist.shape[1] - 2) // 2
     for step in range(nsteps):
         vf = min(1.0, vf0 + (step + 1) * dvf)
         f[:, :] = 0.0
@@ -609,48 +695,18 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
         ke = 0.0
         wk = 0.0
         for i in range(nn):
-            m = mass[i]
             mg = mgrav[i]
             for d in range(3):
-                fa = lf * fext[i, d] + mg * grav[d]
-                ff = f[i, d] + fa
-                f[i, d] = ff
-                if fixed[i, d]:
-                    vv = vf * vpres[i, d]
-                    applied += abs(ff)
-                    wk -= ff * vv
-                else:
-                    vo = v[i, d]
-                    unbal += abs(ff)
-                    applied += abs(fa)
-                    damp = alpha * abs(ff)
-                    if vo > 0.0:
-                        ff -= damp
-                    elif vo < 0.0:
-                        ff += damp
-                    vv = vo + dt * ff / m
-                    ke += 0.5 * m * vv * vv
-                    wk += fa * vv
-                v[i, d] = vv
-                u[i, d] += dt * vv
+                a0, a1, a2, a3 = _advance_dof(i, d, lf * fext[i, d] + mg * grav[d], f, v, u, mass, fixed,
+                                              vpres, vf, alpha, dt)
+                unbal += a0
+                applied += a1
+                ke += a2
+                wk += a3
         work[0] += dt * wk
         if work[0] > work[1]:
             work[1] = work[0]
-        if applied > 0.0:
-            hist[step, 0] = unbal / applied
-        else:
-            hist[step, 0] = 0.0 if unbal == 0.0 else np.inf
-        hist[step, 1] = ke
-        for gi in range(ngrp):
-            hist[step, 2 + 2 * gi] = 0.0
-            hist[step, 3 + 2 * gi] = 0.0
-        for k in range(mon_nodes.shape[0]):
-            gi = mon_grp[k]
-            nd = mon_nodes[k]
-            d = mon_dir[k]
-            hist[step, 2 + 2 * gi] -= f[nd, d]
-            hist[step, 3 + 2 * gi] += u[nd, d]
-        if not math.isfinite(ke) or not math.isfinite(hist[step, 0]):
+        if not _record_step(step, hist, unbal, applied, ke, f, u, mon_nodes, mon_dir, mon_grp):
             return ST_NONFINITE, step + 1
     return ST_OK, nsteps
 
@@ -670,3 +726,230 @@ def run_chunk_entry(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
                      j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
                      b_nodes, b_cnt, b_w, b_axes, b_area, bp, bs,
                      mon_nodes, mon_dir, mon_grp, hist, work, de, ev_, pending, a, evec)
+
+
+# =============================================================================
+# Rigid blocks: six degrees of freedom per block (physics.blocks: rigid)
+# =============================================================================
+@njit(**_INLINE)
+def _rotate_by(R, wx, wy, wz):
+    """R <- exp([w]x) R (Rodrigues' formula): a rotation by the vector w
+    (rad) applied to the orientation R (3x3, body to global); the product
+    stays orthonormal to rounding."""
+    th = math.sqrt(wx * wx + wy * wy + wz * wz)
+    if th == 0.0:
+        return
+    kx = wx / th
+    ky = wy / th
+    kz = wz / th
+    c = math.cos(th)
+    s = math.sin(th)
+    C = 1.0 - c
+    e00 = c + kx * kx * C
+    e01 = kx * ky * C - kz * s
+    e02 = kx * kz * C + ky * s
+    e10 = ky * kx * C + kz * s
+    e11 = c + ky * ky * C
+    e12 = ky * kz * C - kx * s
+    e20 = kz * kx * C - ky * s
+    e21 = kz * ky * C + kx * s
+    e22 = c + kz * kz * C
+    for j in range(3):
+        r0 = R[0, j]
+        r1 = R[1, j]
+        r2 = R[2, j]
+        R[0, j] = e00 * r0 + e01 * r1 + e02 * r2
+        R[1, j] = e10 * r0 + e11 * r1 + e12 * r2
+        R[2, j] = e20 * r0 + e21 * r1 + e22 * r2
+
+
+@njit(**_INLINE)
+def _body_vec(R, b, x, y, z):
+    """R[b] (x, y, z): a body-frame vector in global axes."""
+    return (R[b, 0, 0] * x + R[b, 0, 1] * y + R[b, 0, 2] * z,
+            R[b, 1, 0] * x + R[b, 1, 1] * y + R[b, 1, 2] * z,
+            R[b, 2, 0] * x + R[b, 2, 1] * y + R[b, 2, 2] * z)
+
+
+@njit(**_CACHE)
+def run_chunk_rigid(jlaw, large, nsteps, dt, alpha, lf, vf0, dvf, grav,
+                    u, v, f, mass, mgrav, fixed, vpres,
+                    R, om, mom, iinv, rfixed, ompres, rlen, fl,
+                    pl_body, pl_lever, pl_force,
+                    j_body, j_lever, j_axes, j_area, jp, js,
+                    b_body, b_lever, b_axes, b_area, bp, bs,
+                    mon_nodes, mon_dir, mon_grp, hist, work):
+    """``run_chunk`` for rigid blocks.  Body i (a block, or a loading strip
+    or support as a body whose motion is prescribed) has its reference
+    point (the centroid) displaced by u[i], velocity v[i], orientation R[i]
+    (body to global) and angular velocity om[i] (global axes).
+
+    Sub-contact s joins bodies A = j_body[s, 0] and B = j_body[s, 1] at the
+    point with body-frame levers j_lever[s, 0] and j_lever[s, 1] from their
+    reference points.  Relative velocity at the point
+    (v_B + om_B x r_B) - (v_A + om_A x r_A), r = R r0, in the local axes
+    j_axes[s] = (n, t1, t2) (n from A to B): the initial axes for small
+    displacements (``large`` = 0), the axes carried by block A's rotation
+    for large ones.  The traction acts on A as +area t at r_A (force and
+    moment r_A x F) and on B as -area t at r_B.  Gravity acts at the
+    reference point (mgrav g); point loads pl_force (times lf) at their
+    body-frame levers (their sum per body goes through ``fl``).  The
+    unbalanced-force ratio counts moments divided by the body's lever
+    scale rlen[i] (half its diagonal).
+
+    Per component, central differences with local damping as in
+    ``run_chunk``: translations with ``mass``, rotations with the inverse
+    inertia iinv[i] (body frame; om_dot = R iinv R^T M, without the
+    gyroscopic term om x I om: exact for rotation about a principal axis,
+    and irrelevant to quasi-static runs).  Prescribed components
+    (fixed/vpres; rotation components rfixed/ompres, an angular velocity
+    in global axes) carry reactions: ``mom`` then holds the moment the
+    prescribed rotation resists (its reaction is -mom).  ``hist`` and ``work`` as in ``run_chunk``."""
+    nn = u.shape[0]
+    for step in range(nsteps):
+        vf = min(1.0, vf0 + (step + 1) * dvf)
+        f[:, :] = 0.0
+        fl[:, :] = 0.0
+        mom[:, :] = 0.0
+        for ci in range(2):
+            body = j_body if ci == 0 else b_body
+            lever = j_lever if ci == 0 else b_lever
+            axes = j_axes if ci == 0 else b_axes
+            area = j_area if ci == 0 else b_area
+            par = jp if ci == 0 else bp
+            st = js if ci == 0 else bs
+            for s in range(area.shape[0]):
+                a = body[s, 0]
+                b = body[s, 1]
+                rax, ray, raz = _body_vec(R, a, lever[s, 0, 0], lever[s, 0, 1], lever[s, 0, 2])
+                rbx, rby, rbz = _body_vec(R, b, lever[s, 1, 0], lever[s, 1, 1], lever[s, 1, 2])
+                rx = (v[b, 0] + om[b, 1] * rbz - om[b, 2] * rby) - (v[a, 0] + om[a, 1] * raz - om[a, 2] * ray)
+                ry = (v[b, 1] + om[b, 2] * rbx - om[b, 0] * rbz) - (v[a, 1] + om[a, 2] * rax - om[a, 0] * raz)
+                rz = (v[b, 2] + om[b, 0] * rby - om[b, 1] * rbx) - (v[a, 2] + om[a, 0] * ray - om[a, 1] * rax)
+                if large:
+                    nx, ny, nz = _body_vec(R, a, axes[s, 0], axes[s, 1], axes[s, 2])
+                    ax, ay, az = _body_vec(R, a, axes[s, 3], axes[s, 4], axes[s, 5])
+                    bx, by, bz = _body_vec(R, a, axes[s, 6], axes[s, 7], axes[s, 8])
+                else:
+                    nx, ny, nz = axes[s, 0], axes[s, 1], axes[s, 2]
+                    ax, ay, az = axes[s, 3], axes[s, 4], axes[s, 5]
+                    bx, by, bz = axes[s, 6], axes[s, 7], axes[s, 8]
+                dun = dt * (rx * nx + ry * ny + rz * nz)
+                du1 = dt * (rx * ax + ry * ay + rz * az)
+                du2 = dt * (rx * bx + ry * by + rz * bz)
+                if ci == 1:
+                    joint_bearing(s, par, st, dun, du1, du2)
+                elif jlaw == JOINT_ELASTIC:
+                    joint_elastic(s, par, st, dun, du1, du2)
+                elif jlaw == JOINT_BRITTLE_COULOMB:
+                    joint_brittle_coulomb(s, par, st, dun, du1, du2)
+                elif jlaw == JOINT_COUPLED:
+                    joint_coupled(s, par, st, dun, du1, du2)
+                elif jlaw == JOINT_FRICTION:
+                    joint_friction(s, par, st, dun, du1, du2)
+                ar = area[s]
+                sn = st[s, JS_SN]
+                s1 = st[s, JS_T1]
+                s2 = st[s, JS_T2]
+                fx = ar * (sn * nx + s1 * ax + s2 * bx)
+                fy = ar * (sn * ny + s1 * ay + s2 * by)
+                fz = ar * (sn * nz + s1 * az + s2 * bz)
+                f[a, 0] += fx
+                f[a, 1] += fy
+                f[a, 2] += fz
+                mom[a, 0] += ray * fz - raz * fy
+                mom[a, 1] += raz * fx - rax * fz
+                mom[a, 2] += rax * fy - ray * fx
+                f[b, 0] -= fx
+                f[b, 1] -= fy
+                f[b, 2] -= fz
+                mom[b, 0] -= rby * fz - rbz * fy
+                mom[b, 1] -= rbz * fx - rbx * fz
+                mom[b, 2] -= rbx * fy - rby * fx
+        for k in range(pl_body.shape[0]):
+            bd = pl_body[k]
+            rx, ry, rz = _body_vec(R, bd, pl_lever[k, 0], pl_lever[k, 1], pl_lever[k, 2])
+            fx = lf * pl_force[k, 0]
+            fy = lf * pl_force[k, 1]
+            fz = lf * pl_force[k, 2]
+            fl[bd, 0] += fx
+            fl[bd, 1] += fy
+            fl[bd, 2] += fz
+            mom[bd, 0] += ry * fz - rz * fy
+            mom[bd, 1] += rz * fx - rx * fz
+            mom[bd, 2] += rx * fy - ry * fx
+        unbal = 0.0
+        applied = 0.0
+        ke = 0.0
+        wk = 0.0
+        for i in range(nn):
+            mg = mgrav[i]
+            for d in range(3):
+                a0, a1, a2, a3 = _advance_dof(i, d, fl[i, d] + mg * grav[d], f, v, u, mass, fixed,
+                                              vpres, vf, alpha, dt)
+                unbal += a0
+                applied += a1
+                ke += a2
+                wk += a3
+            # moments of the free components, damped; prescribed ones are
+            # reactions (their moment is what the prescription resists)
+            mx = 0.0
+            my = 0.0
+            mz = 0.0
+            for d in range(3):
+                md = mom[i, d]
+                if rfixed[i, d]:
+                    applied += abs(md) / rlen[i]
+                    wk -= md * vf * ompres[i, d]
+                    continue
+                unbal += abs(md) / rlen[i]
+                if om[i, d] > 0.0:
+                    md -= alpha * abs(md)
+                elif om[i, d] < 0.0:
+                    md += alpha * abs(md)
+                if d == 0:
+                    mx = md
+                elif d == 1:
+                    my = md
+                else:
+                    mz = md
+            # om += dt R iinv R^T M (to the body frame, times iinv, back)
+            bx = R[i, 0, 0] * mx + R[i, 1, 0] * my + R[i, 2, 0] * mz
+            by = R[i, 0, 1] * mx + R[i, 1, 1] * my + R[i, 2, 1] * mz
+            bz = R[i, 0, 2] * mx + R[i, 1, 2] * my + R[i, 2, 2] * mz
+            ax_ = iinv[i, 0, 0] * bx + iinv[i, 0, 1] * by + iinv[i, 0, 2] * bz
+            ay_ = iinv[i, 1, 0] * bx + iinv[i, 1, 1] * by + iinv[i, 1, 2] * bz
+            az_ = iinv[i, 2, 0] * bx + iinv[i, 2, 1] * by + iinv[i, 2, 2] * bz
+            gx, gy, gz = _body_vec(R, i, ax_, ay_, az_)
+            om[i, 0] = vf * ompres[i, 0] if rfixed[i, 0] else om[i, 0] + dt * gx
+            om[i, 1] = vf * ompres[i, 1] if rfixed[i, 1] else om[i, 1] + dt * gy
+            om[i, 2] = vf * ompres[i, 2] if rfixed[i, 2] else om[i, 2] + dt * gz
+            # kinetic energy of rotation: 1/2 (R^T om) . I (R^T om), I diagonal in the body frame
+            wx = R[i, 0, 0] * om[i, 0] + R[i, 1, 0] * om[i, 1] + R[i, 2, 0] * om[i, 2]
+            wy = R[i, 0, 1] * om[i, 0] + R[i, 1, 1] * om[i, 1] + R[i, 2, 1] * om[i, 2]
+            wz = R[i, 0, 2] * om[i, 0] + R[i, 1, 2] * om[i, 1] + R[i, 2, 2] * om[i, 2]
+            ke += 0.5 * (wx * wx / iinv[i, 0, 0] + wy * wy / iinv[i, 1, 1] + wz * wz / iinv[i, 2, 2])
+            _rotate_by(R[i], dt * om[i, 0], dt * om[i, 1], dt * om[i, 2])
+        work[0] += dt * wk
+        if work[0] > work[1]:
+            work[1] = work[0]
+        if not _record_step(step, hist, unbal, applied, ke, f, u, mon_nodes, mon_dir, mon_grp):
+            return ST_NONFINITE, step + 1
+    return ST_OK, nsteps
+
+
+@njit(**_CACHE)
+def run_chunk_rigid_entry(jlaw, large, nsteps, dt, alpha, lf, vf0, dvf, grav,
+                          u, v, f, mass, mgrav, fixed, vpres, R, om, mom, iinv, rfixed, ompres, rlen, fl,
+                          pl_body, pl_lever, pl_force,
+                          j_body, j_lever, j_axes, j_area, jp, js,
+                          b_body, b_lever, b_axes, b_area, bp, bs,
+                          mon_nodes, mon_dir, mon_grp, hist, work):
+    """Entry point: specialises ``run_chunk_rigid`` on the literal joint law
+    and displacement formulation."""
+    return run_chunk_rigid(literally(jlaw), literally(large), nsteps, dt, alpha, lf, vf0, dvf, grav,
+                           u, v, f, mass, mgrav, fixed, vpres, R, om, mom, iinv, rfixed, ompres, rlen, fl,
+                           pl_body, pl_lever, pl_force,
+                           j_body, j_lever, j_axes, j_area, jp, js,
+                           b_body, b_lever, b_axes, b_area, bp, bs,
+                           mon_nodes, mon_dir, mon_grp, hist, work)

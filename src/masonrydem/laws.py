@@ -101,6 +101,7 @@ JOINT_LAWS = {
     "elastic": K.JOINT_ELASTIC,
     "brittle_coulomb": K.JOINT_BRITTLE_COULOMB,
     "coupled_softening": K.JOINT_COUPLED,
+    "friction": K.JOINT_FRICTION,
 }
 
 

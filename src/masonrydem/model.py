@@ -1,11 +1,18 @@
 """Model assembly: blocks, joints found from the initial geometry, bearing
 strips, pressures, fixities and monitors, packed into flat arrays.
 
-Formulation: small displacements.  Strains are computed with the shape
-functions of the initial geometry and joints keep their initial local axes,
-so rigid rotations must stay small (the solver checks this, see
-``Solver.check_small_displacements``).
+Blocks are deformable (meshed into tetrahedra; their gridpoints are the
+nodes) or rigid (one node each, at the centroid, with three rotations
+besides: ``add_box(..., rigid=True)``); a model's blocks are all one or
+the other, and its arrays hold only what its blocks need.
+
+Deformable blocks are small-displacement: strains are computed with the
+shape functions of the initial geometry and joints keep their initial
+local axes, so rigid rotations must stay small (the solver checks this).
+Rigid blocks may also rotate by large angles (``Model.large``): the joints'
+axes then turn with the block that carries them.
 """
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -26,11 +33,16 @@ class Block:
     node0: int                    # first global node index
     lo: np.ndarray = None         # boxes only
     hi: np.ndarray = None
-    cells: tuple = None
+    cells: tuple = None           # of a rigid box: the grid of its faces' sub-contacts
+    rigid: bool = False
 
     @property
     def n_nodes(self):
-        return self.mesh.nodes.shape[0]
+        return 1 if self.rigid else self.mesh.nodes.shape[0]
+
+    @property
+    def centroid(self):
+        return 0.5 * (self.lo + self.hi)
 
     @property
     def is_box(self):
@@ -57,7 +69,10 @@ class Block:
 
     def interpolate(self, axis, side, P, Q):
         """Bilinear interpolation on the face grid at (P, Q): (nodes, weights)
-        with zero weights dropped."""
+        with zero weights dropped; a rigid block's point moves with its one
+        node (and its rotation: the lever is the point's offset)."""
+        if self.rigid:
+            return [self.node0], [1.0]
         gp, gq = self.face_grid(axis)
         ip = int(np.clip(np.searchsorted(gp, P) - 1, 0, gp.size - 2))
         iq = int(np.clip(np.searchsorted(gq, Q) - 1, 0, gq.size - 2))
@@ -143,8 +158,9 @@ class _SubContacts:
     axes: list = field(default_factory=list)
     area: list = field(default_factory=list)
     par: list = field(default_factory=list)
+    point: list = field(default_factory=list)   # the sub-contact's position
 
-    def add(self, nodes_a, w_a, nodes_b, w_b, axes, area, par):
+    def add(self, nodes_a, w_a, nodes_b, w_b, axes, area, par, point):
         nodes = np.zeros(8, np.int64)
         w = np.zeros(8)
         nodes[:len(nodes_a)] = nodes_a
@@ -157,6 +173,7 @@ class _SubContacts:
         self.axes.append(axes)
         self.area.append(area)
         self.par.append(par)
+        self.point.append(point)
 
     def __len__(self):
         return len(self.area)
@@ -171,7 +188,16 @@ class _SubContacts:
             area=np.array(self.area, float).reshape(n),
             par=np.array(self.par, float).reshape(n, K.N_JP),
             state=np.zeros((n, K.N_JS)),
+            point=np.array(self.point, float).reshape(n, 3),
         )
+
+
+def _face_point(axis, coord, P, Q):
+    """The point (x, y, z) at (P, Q) of the plane x[axis] = coord, in the
+    plane's coordinates (p, q) = (axis+1, axis+2) mod 3."""
+    pt = np.zeros(3)
+    pt[axis], pt[(axis + 1) % 3], pt[(axis + 2) % 3] = coord, P, Q
+    return pt
 
 
 def _axes(axis, sign):
@@ -215,12 +241,18 @@ class Model:
         self._strip_sc = _SubContacts()
         self._fixed = {}        # node -> {dof: velocity}
         self._fext = {}         # node -> force vector
+        self._point_loads = []  # rigid blocks: (node, point, force)
+        self._fixed_rotation = {}      # rigid block id -> {dof: angular velocity}
+        self.large = False      # rigid blocks: large rotations
         self.monitors = []      # (name, nodes, direction)
         self.gravity = np.zeros(3)
         self._built = None
 
     # --- blocks ---------------------------------------------------------
-    def add_box(self, lo, hi, cells, material):
+    def add_box(self, lo, hi, cells, material, rigid=False):
+        """A box block [lo, hi] with ``cells`` hexahedral cells per edge
+        (each two overlays of 5 tetrahedra); a rigid box has no mesh, and
+        ``cells`` sets the grid of its faces' sub-contacts."""
         bid = len(self.blocks)
         where = f"blocks[{bid}]"
         lo = _check_3(f"{where}.lo", lo)
@@ -231,9 +263,9 @@ class Model:
         if not all(float(c).is_integer() and c >= 1 for c in cells):
             raise InputError(f"{where}.cells", f"cells per edge must be integers >= 1, got {cells.tolist()}")
         material.validate(f"{where}.material")
-        mesh = box_mesh(lo, hi, tuple(int(c) for c in cells))
-        blk = Block(bid, material, mesh, self.n_nodes, lo, hi, tuple(int(c) for c in cells))
-        return self._add(blk)
+        cells = tuple(int(c) for c in cells)
+        mesh = None if rigid else box_mesh(lo, hi, cells)
+        return self._add(Block(bid, material, mesh, self.n_nodes, lo, hi, cells, bool(rigid)))
 
     def add_tet_block(self, nodes, tets, material):
         """An unstructured tetrahedral block (no joints are searched on it)."""
@@ -244,10 +276,15 @@ class Model:
 
     def _add(self, blk):
         self.blocks.append(blk)
-        self._x0.append(blk.mesh.nodes)
+        self._x0.append(blk.centroid[None, :] if blk.rigid else blk.mesh.nodes)
         self.n_nodes += blk.n_nodes
         self._built = None
         return blk
+
+    @property
+    def rigid(self):
+        """True if the blocks are rigid (all of them: see ``build``)."""
+        return bool(self.blocks) and self.blocks[0].rigid
 
     @property
     def x0(self):
@@ -306,7 +343,7 @@ class Model:
         for pp, qq, ar in zip(P, Q, A):
             na, wa = a.interpolate(axis, side_a, pp, qq)
             nb, wb = b.interpolate(axis, side_b, pp, qq)
-            sc.add(na, wa, nb, wb, axes, ar, row)
+            sc.add(na, wa, nb, wb, axes, ar, row, _face_point(axis, lower.hi[axis], pp, qq))
         self.contacts.append(Contact(cid, a.id, b.id, axis, axes[:3].copy(), float(A.sum()),
                                      slice(start, len(sc)), props))
 
@@ -352,15 +389,15 @@ class Model:
         for b, side in self._faces_on_plane(axis, coord, normal):
             r = self._face_rect(b, axis, rect)
             if r is not None:
-                points += [(b.interpolate(axis, side, pp, qq), ar)
+                points += [(b.interpolate(axis, side, pp, qq), ar, _face_point(axis, coord, pp, qq))
                            for pp, qq, ar in zip(*b.face_points(axis, r, self.subcontact_refine))]
         if not points:
             raise InputError(f"{where}.rect", "the strip touches no block face")
         start = len(self._strip_sc)
-        for (na, wa), ar in points:     # side B: the strip, -(index + 1) until build
-            self._strip_sc.add(na, wa, [-(index + 1)], [1.0], axes, ar, row)
+        for (na, wa), ar, pt in points:     # side B: the strip, -(index + 1) until build
+            self._strip_sc.add(na, wa, [-(index + 1)], [1.0], axes, ar, row, pt)
         strip = Strip(name, -1, axis, int(normal), float(kn), slice(start, len(self._strip_sc)),
-                      float(sum(ar for _, ar in points)))
+                      float(sum(p[1] for p in points)))
         strip.velocity = velocity
         p, q = (axis + 1) % 3, (axis + 2) % 3
         strip.x0 = np.zeros(3)
@@ -383,10 +420,16 @@ class Model:
                 continue
             P, Q, A = b.face_points(axis, r)
             for pp, qq, ar in zip(P, Q, A):
+                force = np.zeros(3)
+                force[axis] = -normal * pressure * ar
+                if b.rigid:
+                    self._point_loads.append((b.node0, _face_point(axis, coord, pp, qq), force))
+                    total += ar
+                    continue
                 nodes, ws = b.interpolate(axis, side, pp, qq)
                 for nd, wgt in zip(nodes, ws):
                     f = self._fext.setdefault(nd, np.zeros(3))
-                    f[axis] -= normal * pressure * ar * wgt
+                    f += wgt * force
                 total += ar
         if total == 0.0:
             raise InputError("pressure.rect", "the pressure acts on no block face")
@@ -417,6 +460,20 @@ class Model:
                 d[dof] = float(vv)
         self._built = None
 
+    def fix_rotation(self, block, dofs=(0, 1, 2), velocity=0.0):
+        """Prescribes the angular velocity (rad per unit time, about the
+        global axes ``dofs``) of a rigid block; zero holds those rotations
+        (its translations: ``fix`` on ``block.node0``)."""
+        if not block.rigid:
+            raise InputError(f"blocks[{block.id}].fix_rotation", "only a rigid block has rotations")
+        vel = np.broadcast_to(np.asarray(velocity, float), (len(dofs),))
+        d = self._fixed_rotation.setdefault(block.id, {})
+        for dof, w in zip(dofs, vel):
+            if dof not in (0, 1, 2):
+                raise InputError(f"blocks[{block.id}].fix_rotation.dofs", f"dofs are 0, 1, 2, got {dof!r}")
+            d[dof] = float(w)
+        self._built = None
+
     def add_monitor(self, name, nodes, direction):
         """Records, every step, the reaction (sum over ``nodes`` of the force
         the constraint applies, along ``direction``) and the mean
@@ -437,6 +494,14 @@ class Model:
             return self._built
         if not self.blocks:
             raise InputError("blocks", "the model has no block")
+        if len({b.rigid for b in self.blocks}) > 1:
+            raise InputError("physics.blocks", "a model's blocks are all rigid or all deformable, not both")
+        if self.large and not self.rigid:
+            raise InputError("physics.displacements", "large displacements need rigid blocks: deformable "
+                             "blocks are small-displacement (strains on the initial geometry)")
+        if self.rigid:
+            self._built = self._build_rigid()
+            return self._built
         nb = self.n_nodes
         nn = nb + len(self.strips)
         x0 = np.zeros((nn, 3))
@@ -462,6 +527,38 @@ class Model:
             t_off += t.shape[0]
         # one zone law for the model: elastic rows never yield under MC
         zlaw = max(b.material.law_id for b in self.blocks)
+        common = self._pack_common(x0)
+        joints, bearings = common["joints"], common["bearings"]
+        fext = np.zeros((nn, 3))
+        for nd, f in self._fext.items():
+            fext[nd] += f
+        vol = np.concatenate(vol)
+        wt = np.concatenate(wt)
+        tets = np.concatenate(tets)
+        rho = np.concatenate([np.full(b.mesh.tets.shape[0], b.material.density) for b in self.blocks])
+        mphys = np.zeros(nn)
+        np.add.at(mphys, tets.ravel(), np.repeat(rho * vol * wt / 4.0, 4))
+        stiff = np.zeros(nn)
+        zp = np.concatenate(zp)
+        dn = np.concatenate(dn)
+        _zone_stiffness(stiff, tets, dn, vol * wt, zp)
+        _contact_stiffness(stiff, joints)
+        _contact_stiffness(stiff, bearings)
+        self._built = dict(
+            common, rigid=False, zlaw=zlaw,
+            tets=tets, dn=dn, vol=vol, wt=wt, zp=zp,
+            gptr=np.asarray(gptr, np.int64), gnodes=np.concatenate(gnodes),
+            gnptr=np.asarray(gnptr, np.int64), fext=fext,
+            mphys=mphys, stiffness=stiff,
+            block_of_node=np.concatenate(block_of_node + [np.full(len(self.strips), -1)]),
+        )
+        return self._built
+
+    def _pack_common(self, x0):
+        """What deformable and rigid models share: the joints (sub-contacts
+        found from the initial geometry) and the strips' bearings, with the
+        strips numbered after the block nodes; fixities; monitors."""
+        nb, nn = self.n_nodes, x0.shape[0]
         sc = _SubContacts()
         self.contacts = []
         if self.joint_law is not None:
@@ -482,40 +579,61 @@ class Model:
             x0[s.node] = s.x0
             fixed[s.node] = 1
             vpres[s.node] = s.velocity
-        fext = np.zeros((nn, 3))
-        for nd, f in self._fext.items():
-            fext[nd] += f
-        vol = np.concatenate(vol)
-        wt = np.concatenate(wt)
-        tets = np.concatenate(tets)
-        rho = np.concatenate([np.full(b.mesh.tets.shape[0], b.material.density) for b in self.blocks])
-        mphys = np.zeros(nn)
-        np.add.at(mphys, tets.ravel(), np.repeat(rho * vol * wt / 4.0, 4))
-        stiff = np.zeros(nn)
-        zp = np.concatenate(zp)
-        dn = np.concatenate(dn)
-        _zone_stiffness(stiff, tets, dn, vol * wt, zp)
-        _contact_stiffness(stiff, joints)
-        _contact_stiffness(stiff, bearings)
         mon_nodes, mon_dir, mon_grp = [], [], []
         for g, (_, items, d) in enumerate(self.monitors):
             nodes = [it.node if isinstance(it, Strip) else int(it) for it in items]
             mon_nodes.extend(nodes)
             mon_dir.extend([d] * len(nodes))
             mon_grp.extend([g] * len(nodes))
-        self._built = dict(
-            nn=nn, x0=x0, zlaw=zlaw,
-            jlaw=joint_law_id(self.joint_law) if self.joint_law else K.JOINT_ELASTIC,
-            tets=tets, dn=dn, vol=vol, wt=wt, zp=zp,
-            gptr=np.asarray(gptr, np.int64), gnodes=np.concatenate(gnodes),
-            gnptr=np.asarray(gnptr, np.int64),
-            joints=joints, bearings=bearings, fixed=fixed, vpres=vpres, fext=fext,
-            mphys=mphys, stiffness=stiff,
-            block_of_node=np.concatenate(block_of_node + [np.full(len(self.strips), -1)]),
-            mon_nodes=np.asarray(mon_nodes, np.int64), mon_dir=np.asarray(mon_dir, np.int64),
-            mon_grp=np.asarray(mon_grp, np.int64),
+        return dict(nn=nn, x0=x0, jlaw=joint_law_id(self.joint_law) if self.joint_law else K.JOINT_ELASTIC,
+                    joints=joints, bearings=bearings, fixed=fixed, vpres=vpres,
+                    mon_nodes=np.asarray(mon_nodes, np.int64), mon_dir=np.asarray(mon_dir, np.int64),
+                    mon_grp=np.asarray(mon_grp, np.int64))
+
+    def _build_rigid(self):
+        """Rigid blocks: per body (the blocks, then the strips) its mass and
+        principal inertia (a box: m (b^2 + c^2) / 12 about each axis), lever
+        scale (half the diagonal) and the Gershgorin bounds of its
+        translational and rotational contact stiffness; per sub-contact the
+        two bodies and the levers (from each body's centroid to the point,
+        in the body frame = global at the start); point loads with their
+        levers.  No zone arrays."""
+        nb = self.n_nodes
+        x0 = np.zeros((nb + len(self.strips), 3))
+        x0[:nb] = self.x0
+        common = self._pack_common(x0)
+        nn = common["nn"]
+        mphys = np.zeros(nn)
+        inertia = np.ones((nn, 3))
+        rlen = np.ones(nn)
+        for b in self.blocks:
+            size = b.hi - b.lo
+            m = b.material.density * float(np.prod(size))
+            mphys[b.node0] = m
+            inertia[b.node0] = m / 12.0 * (np.sum(size ** 2) - size ** 2)
+            rlen[b.node0] = 0.5 * float(np.linalg.norm(size))
+        rfixed = np.zeros((nn, 3), np.uint8)
+        rfixed[nb:] = 1
+        ompres = np.zeros((nn, 3))
+        for bid, dd in self._fixed_rotation.items():
+            for dof, w in dd.items():
+                rfixed[self.blocks[bid].node0, dof] = 1
+                ompres[self.blocks[bid].node0, dof] = w
+        kt, kr = np.zeros(nn), np.zeros(nn)
+        for key in ("joints", "bearings"):
+            sc = common[key]
+            sc["body"] = sc["nodes"][:, [0, 4]].copy()
+            sc["lever"] = sc["point"][:, None, :] - x0[sc["body"]]          # (n, 2, 3)
+            _rigid_contact_stiffness(kt, kr, sc)
+        loads = self._point_loads + [(nd, x0[nd], f) for nd, f in self._fext.items()]
+        return dict(
+            common, rigid=True, large=int(self.large), mphys=mphys, inertia=inertia, rlen=rlen,
+            rfixed=rfixed, ompres=ompres, stiffness=kt, rot_stiffness=kr,
+            pl_body=np.array([nd for nd, _, _ in loads], np.int64),
+            pl_lever=np.array([p - x0[nd] for nd, p, _ in loads], float).reshape(-1, 3),
+            pl_force=np.array([f for _, _, f in loads], float).reshape(-1, 3),
+            block_of_node=np.concatenate([np.arange(nb), np.full(len(self.strips), -1)]),
         )
-        return self._built
 
 
 def _zone_stiffness(stiff, tets, dn, wvol, zp, chunk=20000):
@@ -549,20 +667,46 @@ def _zone_stiffness(stiff, tets, dn, wvol, zp, chunk=20000):
         np.add.at(stiff, t.ravel(), rows.ravel())
 
 
-def _contact_stiffness(stiff, sc):
-    """Gershgorin bound of the sub-contacts' stiffness: a sub-contact couples
-    its (up to 8) interpolated nodes through
-    C = area (k_n n n^T + k_s (t1 t1^T + t2 t2^T)); node i's absolute row sum
-    is |w_i| (sum_j |w_j|) max_row sum |C|."""
+def _contact_rowmax(sc):
+    """Per sub-contact: area times the largest absolute row sum of its
+    stiffness C = k_n n n^T + k_s (t1 t1^T + t2 t2^T)."""
     n = sc["area"].shape[0]
-    if n == 0:
-        return
     ax = sc["axes"].reshape(n, 3, 3)
     kn, ks = sc["par"][:, K.JP_KN], sc["par"][:, K.JP_KS]
     C = (kn[:, None, None] * np.einsum("ni,nj->nij", ax[:, 0], ax[:, 0])
          + ks[:, None, None] * (np.einsum("ni,nj->nij", ax[:, 1], ax[:, 1])
                                 + np.einsum("ni,nj->nij", ax[:, 2], ax[:, 2])))
-    rowmax = np.abs(C).sum(axis=2).max(axis=1) * sc["area"]
+    return np.abs(C).sum(axis=2).max(axis=1) * sc["area"]
+
+
+def _rigid_contact_stiffness(kt, kr, sc):
+    """Gershgorin bounds of the contact stiffness of rigid bodies, for any
+    orientation: a sub-contact of stiffness matrix C (as in
+    ``_contact_stiffness``, absolute row sums at most c) between bodies with
+    levers r_A, r_B couples their velocities through G = [I, -[r]x]; the
+    rows of the 12 x 12 block G^T C G sum, in absolute value, to at most
+    c (2 + sqrt2 (|r_A| + |r_B|)) for a translation and
+    c |r| (2 sqrt2 + 2 |r_A| + 2 |r_B|) for a rotation of the body with
+    lever r (|[r]x| has row sums at most sqrt2 |r|)."""
+    if sc["area"].shape[0] == 0:
+        return
+    c = _contact_rowmax(sc)
+    r = np.linalg.norm(sc["lever"], axis=2)                  # (n, 2)
+    rsum = r.sum(axis=1)
+    s2 = math.sqrt(2.0)
+    for side in range(2):
+        np.add.at(kt, sc["body"][:, side], c * (2.0 + s2 * rsum))
+        np.add.at(kr, sc["body"][:, side], c * r[:, side] * (2.0 * s2 + 2.0 * rsum))
+
+
+def _contact_stiffness(stiff, sc):
+    """Gershgorin bound of the sub-contacts' stiffness: a sub-contact couples
+    its (up to 8) interpolated nodes through
+    C = area (k_n n n^T + k_s (t1 t1^T + t2 t2^T)); node i's absolute row sum
+    is |w_i| (sum_j |w_j|) max_row sum |C|."""
+    if sc["area"].shape[0] == 0:
+        return
+    rowmax = _contact_rowmax(sc)
     w = np.abs(sc["w"])
     wsum = w.sum(axis=1)
     np.add.at(stiff, sc["nodes"].ravel(), (w * (wsum * rowmax)[:, None]).ravel())

@@ -122,7 +122,7 @@ def run_scene(scene, progress=True):
         max_ratio_after_peak=after_ratio,
         post_peak=("none" if math.isnan(after_ratio) else "dynamic" if after_ratio >= PEAK_RATIO
                    else "quasi-static"),
-        tets=int(s.b["tets"].shape[0]),
+        tets=int(s.b["tets"].shape[0]) if "tets" in s.b else 0,
         subcontacts=int(s.js.shape[0]),
         max_rotation_rad=s.max_rotation(),
         wall_time_s=time.perf_counter() - t0,

@@ -74,6 +74,10 @@ def validate_scene(scene):
     if errors:
         e = errors[0]
         raise InputError(_path(e), e.message)
+    phys = scene["physics"]
+    if phys["displacements"] == "large" and phys["blocks"] != "rigid":
+        raise InputError("physics.displacements", "large displacements need rigid blocks: deformable blocks "
+                         f"({phys['blocks']}) are small-displacement (strains on the initial geometry)")
     g = scene["geometry"]
     n_units = g["courses"] * g["units_per_course"]
     n_joints = len(running_bond_joints(g["courses"], g["units_per_course"]))
@@ -191,6 +195,8 @@ def build(scene):
     phi_j = _per(per_j.get("phi"), len(joints), mj["phi"])
 
     m = Model()
+    rigid = phys["blocks"] == "rigid"
+    m.large = phys["displacements"] == "large"
     units = []
     for k in range(nk):
         x0 = g["bond_offset"] * L if k % 2 else 0.0
@@ -199,13 +205,13 @@ def build(scene):
             Gf = mu["Gf"]
             if "gf_coefficient" in per_u:   # N/mm with f in MPa -> N/m
                 Gf = 1e3 * per_u["gf_coefficient"] * (f_tu[uid] / 1e6) ** per_u["gf_exponent"]
-            if phys["blocks"] == "elastic":
+            if phys["blocks"] in ("rigid", "elastic"):
                 material = Elastic(E=E_b[uid], nu=mu["nu"], density=mu["density"])
             else:
                 material = MohrCoulomb(E=E_b[uid], nu=mu["nu"], density=mu["density"], ft=f_tu[uid],
                                        c=mu["c_ratio"] * f_tu[uid], phi=mu["phi"], Gf=Gf)
             m.add_box([x0 + i * L, 0.0, k * H], [x0 + (i + 1) * L, T, (k + 1) * H],
-                      scene["numerics"]["cells"], material)
+                      scene["numerics"]["cells"], material, rigid=rigid)
             units.append((k, i))
 
     def joint_of(a, b):
@@ -233,11 +239,21 @@ def build(scene):
     # base: roller (z fixed); x fixed at one base point, the node nearest the
     # span centre at mid-thickness (the least restraint: a line of x-fixed
     # nodes would add stiffness, and on a head joint would pin it shut);
-    # y is held by the strips
-    base = m.select(lambda x: x[:, 2] < GEOM_TOL)
-    m.fix(base, dofs=[2])
+    # y is held by the strips.  Rigid units: the roller holds each bottom
+    # unit's z and its rotations about x and y; x is fixed at the bottom
+    # unit nearest the span centre
     centre = np.array([np.mean(bend["supports_x"]), 0.5 * T, 0.0])
-    m.fix(base[np.argmin(np.linalg.norm(m.x0[base] - centre, axis=1))], dofs=[0])
+    if rigid:
+        bottom = [b for b in m.blocks if b.lo[2] < GEOM_TOL]
+        for b in bottom:
+            m.fix([b.node0], dofs=[2])
+            m.fix_rotation(b, dofs=(0, 1))
+        middle = min(bottom, key=lambda b: np.linalg.norm(b.centroid[:2] - centre[:2]))
+        m.fix([middle.node0], dofs=[0])
+    else:
+        base = m.select(lambda x: x[:, 2] < GEOM_TOL)
+        m.fix(base, dofs=[2])
+        m.fix(base[np.argmin(np.linalg.norm(m.x0[base] - centre, axis=1))], dofs=[0])
     w = 0.5 * bend["strip_width"]
     ks = bend["strip_stiffness_ratio"] * joint_kn(float(np.mean(E_b)), mj["Em_ratio"], t)
     Htot = nk * H

@@ -84,6 +84,12 @@ class Solver:
     ``rotation_limit`` radians (checked every 20 chunks).
     """
 
+    def __new__(cls, model, *args, **kwargs):
+        """A model of rigid blocks gets the rigid-block solver."""
+        if cls is Solver and model.rigid:
+            cls = RigidSolver
+        return super().__new__(cls)
+
     def __init__(self, model, mode=QUASI_STATIC, damping=None, safety=0.9, dt=None,
                  chunk=200, record_every=10, rotation_limit=0.05):
         if mode not in (QUASI_STATIC, DYNAMIC):
@@ -106,32 +112,11 @@ class Solver:
                              f"(first: node {floating[0]})")
         self.mode = mode
         self.alpha = float(damping)
-        if mode == QUASI_STATIC:
-            self.dt = 1.0
-            mass = np.where(k > 0, (1.0 + self.alpha) * k * (self.dt / (2.0 * safety)) ** 2, 1.0)
-            self.dt_crit = self.dt / safety
-        else:
-            mass = b["mphys"].copy()
-            light = np.flatnonzero(free & (mass <= 0))
-            if light.size:
-                raise InputError("blocks.material.density",
-                                 "dynamic mode needs a positive density for every block")
-            mass[~free] = np.where(mass[~free] > 0, mass[~free], 1.0)
-            with np.errstate(divide="ignore"):
-                self.dt_crit = float(np.min(2.0 * np.sqrt(mass[free] / ((1.0 + self.alpha) * k[free]))))
-            if dt is None:
-                dt = safety * self.dt_crit
-            if not (dt > 0) or dt > self.dt_crit:
-                raise InputError("solver.dt", f"time step {dt!r} s is above the critical step "
-                                 f"{self.dt_crit:.6g} s (2 min sqrt(m / ((1 + damping) k))) or not positive")
-            self.dt = float(dt)
-        self.mass = mass
+        self._safety, self._dt_arg = safety, dt
+        self.mass = self._inertias(k, b["mphys"], free, safety, dt)
         self.u = np.zeros((nn, 3))
         self.v = np.zeros((nn, 3))
         self.f = np.zeros((nn, 3))
-        nt = b["tets"].shape[0]
-        self.stress = np.zeros((nt, 6))
-        self.zs = np.zeros((nt, K.N_ZS))
         self.js = b["joints"]["state"].copy()
         self.bs = b["bearings"]["state"].copy()
         self.fixed = b["fixed"].copy()
@@ -149,6 +134,38 @@ class Solver:
         self.ngrp = len(model.monitors)
         self.history = History(int(record_every))
         self.last = np.zeros(2 + 2 * self.ngrp)
+        self._setup_blocks()
+
+    def _inertias(self, k, phys, free, safety, dt):
+        """Masses (or rotational inertias) of degrees of freedom with
+        stiffness bounds ``k`` and physical values ``phys``; sets dt and
+        dt_crit (quasi-static: scaled, dt = 1; dynamic: physical, the step
+        checked against the critical step)."""
+        if self.mode == QUASI_STATIC:
+            self.dt = 1.0
+            self.dt_crit = self.dt / safety
+            return np.where(k > 0, (1.0 + self.alpha) * k * (self.dt / (2.0 * safety)) ** 2, 1.0)
+        mass = phys.copy()
+        if np.any(free & (mass <= 0)):
+            raise InputError("blocks.material.density", "dynamic mode needs a positive density for every block")
+        mass[~free] = np.where(mass[~free] > 0, mass[~free], 1.0)
+        with np.errstate(divide="ignore"):
+            crit = float(np.min(2.0 * np.sqrt(mass[free] / ((1.0 + self.alpha) * k[free])), initial=np.inf))
+        self.dt_crit = min(getattr(self, "dt_crit", np.inf), crit)
+        if dt is None:
+            dt = safety * self.dt_crit
+        if not (dt > 0) or dt > self.dt_crit:
+            raise InputError("solver.dt", f"time step {dt!r} s is above the critical step "
+                             f"{self.dt_crit:.6g} s (2 min sqrt(m / ((1 + damping) k))) or not positive")
+        self.dt = float(dt)
+        return mass
+
+    def _setup_blocks(self):
+        """The zones' state and scratch arrays (deformable blocks)."""
+        b = self.b
+        nt = b["tets"].shape[0]
+        self.stress = np.zeros((nt, 6))
+        self.zs = np.zeros((nt, K.N_ZS))
         gsize = np.diff(b["gptr"]).max() if nt else 1
         self._scratch = (np.zeros((gsize, 6)), np.zeros(gsize), np.zeros((max(nt, 1), 2), np.int64),
                          np.zeros((3, 3)), np.zeros((3, 3)))
@@ -169,20 +186,11 @@ class Solver:
     def cycle(self, nsteps):
         """Advances ``nsteps`` steps; returns (status code, steps done)."""
         b = self.b
-        j, br = b["joints"], b["bearings"]
         hist = np.empty((nsteps, 2 + 2 * self.ngrp))
         if self.energy_in is None:
             free = self.fixed == 0
             self.energy_in = float(0.5 * np.sum((self.mass[:, None] * self.v ** 2)[free]))
-        status, done = K.run_chunk_entry(
-            b["zlaw"], b["jlaw"], nsteps, self.dt, self.alpha, self.load_factor,
-            self.velocity_factor, self._ramp, self.gravity,
-            self.u, self.v, self.f, self.mass, b["mphys"], self.fixed, self.vpres, b["fext"], b["x0"],
-            b["tets"], b["dn"], b["vol"], b["wt"], b["gptr"], b["gnodes"], b["gnptr"],
-            b["zp"], self.zs, self.stress,
-            j["nodes"], j["cnt"], j["w"], j["axes"], j["area"], j["par"], self.js,
-            br["nodes"], br["cnt"], br["w"], br["axes"], br["area"], br["par"], self.bs,
-            b["mon_nodes"], b["mon_dir"], b["mon_grp"], hist, self.work, *self._scratch)
+        status, done = self._kernel(nsteps, hist)
         hist = hist[:done]
         # loading at full speed (the velocity ramp is over) at each step
         loading = self.velocity_factor + np.arange(1, done + 1) * self._ramp >= 1.0
@@ -192,6 +200,19 @@ class Solver:
         self._record(hist, loading)
         self.step += done
         return status, done
+
+    def _kernel(self, nsteps, hist):
+        b = self.b
+        j, br = b["joints"], b["bearings"]
+        return K.run_chunk_entry(
+            b["zlaw"], b["jlaw"], nsteps, self.dt, self.alpha, self.load_factor,
+            self.velocity_factor, self._ramp, self.gravity,
+            self.u, self.v, self.f, self.mass, b["mphys"], self.fixed, self.vpres, b["fext"], b["x0"],
+            b["tets"], b["dn"], b["vol"], b["wt"], b["gptr"], b["gnodes"], b["gnptr"],
+            b["zp"], self.zs, self.stress,
+            j["nodes"], j["cnt"], j["w"], j["axes"], j["area"], j["par"], self.js,
+            br["nodes"], br["cnt"], br["w"], br["axes"], br["area"], br["par"], self.bs,
+            b["mon_nodes"], b["mon_dir"], b["mon_grp"], hist, self.work, *self._scratch)
 
     def _record(self, hist, loading):
         h = self.history
@@ -335,3 +356,75 @@ class Solver:
             out = max(out, float(np.linalg.norm(omega[start:start + n].sum(axis=0)) / vsum))
             start += n
         return out
+
+
+class RigidSolver(Solver):
+    """The solver of a model of rigid blocks (``Solver(model)`` returns it):
+    six degrees of freedom per block, the translations as the nodes of
+    ``Solver`` and three rotations besides (orientation R, angular velocity
+    om, moment mom); kernel ``kernels.run_chunk_rigid``.  No zones: nothing
+    of the zone kernel is allocated or compiled.  Rotational inertias like
+    the masses: scaled from the Gershgorin bound of the rotational stiffness
+    (quasi-static: isotropic) or physical (dynamic: principal moments),
+    the critical step the smaller of translations and rotations.  With
+    ``model.large`` the rotation limit is off: the joints' axes turn with
+    their blocks."""
+
+    def _setup_blocks(self):
+        b = self.b
+        nn = b["nn"]
+        free = b["rfixed"].min(axis=1) == 0
+        kr = b["rot_stiffness"]
+        if np.any(free & (kr <= 0)):
+            raise InputError("model", "a rigid block that may rotate carries no contact (no rotational stiffness)")
+        if self.mode == QUASI_STATIC:
+            inertia = np.repeat(self._inertias(kr, kr, free, self._safety, self._dt_arg)[:, None], 3, axis=1)
+        else:
+            imin = self._inertias(kr, b["inertia"].min(axis=1), free, self._safety, self._dt_arg)
+            inertia = np.where(free[:, None], b["inertia"], imin[:, None])
+            self._c = min(self.dt / self.dt_crit / math.sqrt(1.0 + self.alpha), 0.999)
+        self.iinv = np.zeros((nn, 3, 3))
+        for d in range(3):
+            self.iinv[:, d, d] = 1.0 / inertia[:, d]
+        self.ompres = b["ompres"].copy()
+        self.R = np.repeat(np.eye(3)[None], nn, axis=0)
+        self.om = np.zeros((nn, 3))
+        self.mom = np.zeros((nn, 3))
+        self._fl = np.zeros((nn, 3))
+        if b["large"]:
+            self.rotation_limit = np.inf
+        self.h_min = float(np.min(b["rlen"]))
+
+    def _kernel(self, nsteps, hist):
+        b = self.b
+        j, br = b["joints"], b["bearings"]
+        return K.run_chunk_rigid_entry(
+            b["jlaw"], b["large"], nsteps, self.dt, self.alpha, self.load_factor,
+            self.velocity_factor, self._ramp, self.gravity,
+            self.u, self.v, self.f, self.mass, b["mphys"], self.fixed, self.vpres,
+            self.R, self.om, self.mom, self.iinv, b["rfixed"], self.ompres, b["rlen"], self._fl,
+            b["pl_body"], b["pl_lever"], b["pl_force"],
+            j["body"], j["lever"], j["axes"], j["area"], j["par"], self.js,
+            br["body"], br["lever"], br["axes"], br["area"], br["par"], self.bs,
+            b["mon_nodes"], b["mon_dir"], b["mon_grp"], hist, self.work)
+
+    def set_angular_velocity(self, block, velocity):
+        """The prescribed angular velocity (global axes) of a block whose
+        rotation is prescribed (``Model.fix_rotation``)."""
+        fixed = self.b["rfixed"][block.node0] == 1
+        w = np.asarray(velocity, float)
+        if np.any(w[~fixed] != 0):
+            raise InputError(f"blocks[{block.id}]", "only prescribed rotations take a velocity (Model.fix_rotation)")
+        self.ompres[block.node0] = np.where(fixed, w, 0.0)
+
+    def zone_damage(self):
+        return np.zeros(0)
+
+    def rotations(self):
+        """Rotation angle (rad) of each body."""
+        tr = np.trace(self.R, axis1=1, axis2=2)
+        return np.arccos(np.clip(0.5 * (tr - 1.0), -1.0, 1.0))
+
+    def max_rotation(self):
+        n = len(self.model.blocks)
+        return float(self.rotations()[:n].max()) if n else 0.0

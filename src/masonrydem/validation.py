@@ -84,3 +84,21 @@ def hard_cases_table(results, config):
                          ratio_at_peak=r["ratio_at_peak"], post_peak=r["post_peak"], wall_time_s=r["wall_time_s"],
                          half_rate_change_pct=change, message=r["message"]))
     return pd.DataFrame(rows)
+
+
+def reduced_table(results, tolerance):
+    """The reduced models against the full one (results: (case, model) ->
+    result row; model 'full' is the reference): per run P_max, its change,
+    the failure mode, steps, run time and speed-up, and whether the reduced
+    model is good enough (P_max within ``tolerance`` and the same mode)."""
+    rows = []
+    for (case, model), r in results.items():
+        full = results[(case, "full")]
+        change = r["P_max_kN"] / full["P_max_kN"] - 1.0
+        rows.append(dict(case=case, model=model, sigma_v_mpa=r["sigma_v_mpa"], f_tj_mpa=r["f_tj_mpa"],
+                         status=r["status"], P_max_kN=r["P_max_kN"], change_pct=100.0 * change,
+                         failure_mode=r["failure_mode"], steps=r["steps"], wall_time_s=r["wall_time_s"],
+                         speedup=full["wall_time_s"] / r["wall_time_s"],
+                         good_enough=bool(r["ok"] and abs(change) <= tolerance
+                                          and r["failure_mode"] == full["failure_mode"])))
+    return pd.DataFrame(rows)

@@ -54,6 +54,7 @@ rule accuracy_summary:
         captions=[caption("accuracy_convergence"), caption("accuracy_choice")],
     params:
         accuracy=A,
+        baselines=accuracy_oat_baselines(),
         numerics=config["numerics"],
         path=[grid_setting(c, max(A["subcontact_refine"])) for c in path_cells()] if A else [],
     log:

@@ -51,6 +51,15 @@ def get_validation_outputs():
     )
 
 
+def reduced_cases():
+    """Case -> overrides of the reduced-model comparison (config 'reduced')."""
+    return {c["name"]: c["overrides"] for c in config.get("reduced", {}).get("cases", [])}
+
+
+def get_reduced_outputs():
+    return [R + "/reduced/summary.csv"] if config.get("reduced") else []
+
+
 def get_stability_outputs():
     return [R + "/stability/hard_cases.csv"] if config.get("hard_cases") else []
 
@@ -103,13 +112,23 @@ def accuracy_grid():
 
 def accuracy_oat(case):
     """Setting id -> overrides of the defaults themselves and of one
-    setting changed at a time."""
+    setting changed at a time, around the defaults or around the grid
+    setting named by 'around' (e.g. the loading rate on a fine mesh)."""
     out = {"default": []}
+    grid = accuracy_grid()
     for s in A["settings"]:
+        if "around" in s and s["around"] not in grid:
+            raise ValueError(f"config accuracy.settings {s['name']}.around: {s['around']!r} is not a grid setting "
+                             f"(cells x subcontact_refine, extra_cells x extra_refine, path_cells)")
         if case in s.get("cases", [c["name"] for c in A["cases"]]):
             for v in s["values"]:
-                out[f"{s['name']}_{v}"] = [f"{s['key']}={v}"]
+                out[f"{s['name']}_{v}"] = [*grid.get(s.get("around"), []), f"{s['key']}={v}"]
     return out
+
+
+def accuracy_oat_baselines():
+    """One-at-a-time setting id -> the setting it varies ('default' or its 'around')."""
+    return {f"{s['name']}_{v}": s.get("around", "default") for s in A["settings"] for v in s["values"]} if A else {}
 
 
 def path_cells():

@@ -1,0 +1,199 @@
+"""Rigid blocks (issue 7): six degrees of freedom per block, sub-contacts on
+the block faces, large rotations; closed forms of rigid-block statics and
+dynamics.  Each test states its formula and tolerance."""
+import math
+
+import numpy as np
+import pytest
+
+from masonrydem import Elastic, InputError, JointProps, Model, Solver
+from masonrydem import kernels as K
+from masonrydem.solver import RigidSolver
+
+pytestmark = pytest.mark.verification
+
+G = 9.81
+RHO = 2000.0
+MAT = Elastic(E=1e9, nu=0.2, density=RHO)   # E unused by rigid blocks
+
+
+def _block_on_ground(b, d, h, phi, gravity, large=False):
+    """A rigid block b x d x h (x, y, z) on a fixed rigid ground, a dry
+    contact (law 'friction': no tension, no cohesion, a gap that must close
+    before it carries compression again).  The ground's face grid is the
+    finer, so it carries the sub-contacts (fixed axes: the ground's normal)."""
+    m = Model()
+    ground = m.add_box([-0.3, -0.3, -0.1], [0.3, 0.3, 0.0], (48, 48, 1), MAT, rigid=True)
+    blk = m.add_box([-b / 2, -d / 2, 0.0], [b / 2, d / 2, h], (2, 2, 2), MAT, rigid=True)
+    m.set_joints("friction", JointProps(kn=1e10, ks=1e10, phi=phi))
+    m.fix([ground.node0])
+    m.fix_rotation(ground)
+    m.gravity = np.asarray(gravity, float)
+    m.large = large
+    m.add_monitor("block", [blk.node0], 0)
+    return m, blk
+
+
+def _tilted(psi_deg):
+    """Gravity of an incline of slope psi (about y): the ground stays level."""
+    psi = math.radians(psi_deg)
+    return G * np.array([math.sin(psi), 0.0, -math.cos(psi)])
+
+
+def test_rigid_model_has_no_zones_and_never_enters_the_zone_kernel(monkeypatch):
+    """A rigid-block model allocates no zone arrays (no tetrahedra, no
+    stresses) and runs the rigid kernel only: the deformable kernel is
+    replaced by one that fails, and the run still completes."""
+    m, blk = _block_on_ground(0.1, 0.1, 0.05, 30.0, _tilted(0.0))
+    b = m.build()
+    assert b["rigid"] and not any(k in b for k in ("tets", "dn", "vol", "zp", "gptr"))
+
+    def forbidden(*args):
+        raise AssertionError("the zone kernel was entered")
+
+    monkeypatch.setattr(K, "run_chunk_entry", forbidden)
+    s = Solver(m)
+    assert isinstance(s, RigidSolver) and not hasattr(s, "stress")
+    assert s.run(50_000, ratio_tol=1e-6).status == "converged"
+
+
+def test_rigid_and_deformable_blocks_do_not_mix():
+    m = Model()
+    m.add_box([0, 0, 0], [0.1, 0.1, 0.1], (1, 1, 1), MAT, rigid=True)
+    m.add_box([0, 0, 0.1], [0.1, 0.1, 0.2], (1, 1, 1), MAT)
+    with pytest.raises(InputError, match="physics.blocks"):
+        m.build()
+    m = Model()
+    m.add_box([0, 0, 0], [0.1, 0.1, 0.1], (1, 1, 1), MAT)
+    m.large = True
+    with pytest.raises(InputError, match="physics.displacements"):
+        m.build()
+
+
+def test_rigid_block_resting_carries_its_weight():
+    """Level ground, vertical gravity: the block comes to rest (ratio < 1e-8)
+    with the ground's contact force equal to its weight rho g V (1e-6)
+    and no rotation."""
+    m, blk = _block_on_ground(0.1, 0.1, 0.05, 30.0, [0.0, 0.0, -G])
+    s = Solver(m)
+    assert s.run(100_000, ratio_tol=1e-8).status == "converged"
+    weight = RHO * 0.1 * 0.1 * 0.05 * G
+    normal = -float(np.sum(s.js[:, K.JS_SN] * m.build()["joints"]["area"]))
+    assert normal == pytest.approx(weight, rel=1e-6)
+    assert s.max_rotation() < 1e-9
+
+
+def test_rigid_block_on_incline_stable_below_phi():
+    """Slope 25 deg < phi = 30 deg: at rest (ratio < 1e-6); its slide along
+    the slope is of the order of the elastic shear estimate W sin(psi) /
+    (k_s A), below 3 times it."""
+    m, blk = _block_on_ground(0.1, 0.1, 0.05, 30.0, _tilted(25.0))
+    s = Solver(m)
+    assert s.run(200_000, ratio_tol=1e-6).status == "converged"
+    weight = RHO * 0.1 * 0.1 * 0.05 * G
+    assert abs(s.u[blk.node0, 0]) < 3 * weight * math.sin(math.radians(25.0)) / (1e10 * 0.01)
+
+
+def test_rigid_block_on_incline_slides_above_phi():
+    """Slope 40 deg > phi = 30 deg, dynamic, undamped: the block slides with
+    a = g (sin psi - cos psi tan phi) (2 %, quadratic fit of its
+    displacement over 0.1 s)."""
+    psi, phi = 40.0, 30.0
+    m, blk = _block_on_ground(0.1, 0.1, 0.05, phi, _tilted(psi))
+    s = Solver(m, mode="dynamic", safety=0.5)
+    s.run(int(0.1 / s.dt))
+    H = s.history.array()
+    acc = 2 * np.polyfit(H[:, 0] * s.dt, H[:, 4], 2)[0]
+    exact = G * (math.sin(math.radians(psi)) - math.cos(math.radians(psi)) * math.tan(math.radians(phi)))
+    assert acc == pytest.approx(exact, rel=0.02)
+
+
+@pytest.mark.parametrize("slenderness, topples", [(0.8, True), (1.2, False)])
+def test_rigid_block_topples_when_width_over_height_is_below_tan_slope(slenderness, topples):
+    """Slope psi = 30 deg, phi = 45 deg (no sliding), block of width
+    b = slenderness * h tan(psi): it topples (rotation beyond 0.3 rad within
+    0.6 s, dynamic, undamped, large rotations) when b / h < tan(psi), and
+    stays upright (rotation below 0.01 rad) when b / h > tan(psi)."""
+    h = 0.2
+    b = slenderness * h * math.tan(math.radians(30.0))
+    m, blk = _block_on_ground(b, 0.1, h, 45.0, _tilted(30.0), large=True)
+    s = Solver(m, mode="dynamic", safety=0.5)
+    rot = 0.0
+    for _ in range(60):
+        s.run(int(0.01 / s.dt))
+        rot = max(rot, s.max_rotation())
+        if rot > 0.3:
+            break
+    assert (rot > 0.3) if topples else (rot < 0.01)
+
+
+def test_rocking_block_pushover_follows_tan_alpha_minus_theta():
+    """Static pushover of a rigid block b x h on a rigid base under its
+    weight W and a horizontal load lambda W at its centroid: held at a
+    rotation theta about its edge, equilibrium needs
+    lambda(theta) = tan(alpha - theta), tan(alpha) = b / h.  Under
+    lambda0 = 0.2 the block is turned (quasi-static, large rotations,
+    translations free) to theta = 0.05, 0.15 and 0.3 rad and held there
+    until at rest (ratio < 1e-7); the moment C the hold supplies gives
+    lambda(theta) = lambda0 + C / (W R cos(alpha - theta)), R the half
+    diagonal (moments about the pivot edge): within 1 % of tan(alpha - theta)."""
+    b, d, h, lam0 = 0.1, 0.1, 0.2, 0.2
+    m, blk = _block_on_ground(b, d, h, 45.0, [lam0 * G, 0.0, -G], large=True)
+    rate = 1e-5                                    # rad per step, about +y: tips toward +x
+    m.fix_rotation(blk)
+    s = Solver(m)
+    W, R, alpha = RHO * b * d * h * G, 0.5 * math.hypot(b, h), math.atan2(b, h)
+    for theta in (0.05, 0.15, 0.3):
+        s.set_angular_velocity(blk, (0.0, rate, 0.0))
+        s.run(int(round((theta - s.max_rotation()) / rate)))
+        s.set_angular_velocity(blk, (0.0, 0.0, 0.0))
+        assert s.run(500_000, ratio_tol=1e-7).status == "converged"
+        assert s.max_rotation() == pytest.approx(theta, abs=1e-9)
+        C = -s.mom[blk.node0, 1]
+        lam = lam0 + C / (W * R * math.cos(alpha - theta))
+        print(f"theta {theta}: lambda {lam:.5f}, tan(alpha - theta) {math.tan(alpha - theta):.5f}")
+        assert lam == pytest.approx(math.tan(alpha - theta), rel=0.01), theta
+
+
+def test_dry_contact_closes_its_gap_before_it_carries_compression():
+    """Law 'friction': opened by w, the contact carries nothing until it
+    has closed by w; then sigma_n = k_n e (e the penetration); shear is
+    bounded by -sigma_n tan(phi) and is zero while open."""
+    props = JointProps(kn=1e10, ks=4e9, phi=30.0)
+    jp, js = props.row()[None, :], np.zeros((1, K.N_JS))
+    K.joint_friction(0, jp, js, 1e-4, 0.0, 0.0)          # opens by 0.1 mm
+    assert js[0, K.JS_SN] == 0.0 and js[0, K.JS_WP] == pytest.approx(1e-4)
+    K.joint_friction(0, jp, js, -0.6e-4, 1e-5, 0.0)      # closes part of the gap, slides: free
+    assert js[0, K.JS_SN] == 0.0 and js[0, K.JS_T1] == 0.0
+    K.joint_friction(0, jp, js, -0.5e-4, 0.0, 0.0)       # 0.01 mm past closure
+    assert js[0, K.JS_SN] == pytest.approx(-1e10 * 1e-5) and js[0, K.JS_WP] == 0.0
+    K.joint_friction(0, jp, js, 0.0, 1e-3, 0.0)          # slides at the friction limit
+    assert js[0, K.JS_T1] == pytest.approx(1e5 * math.tan(math.radians(30.0)))
+    K.joint_friction(0, jp, js, 2e-5, 0.0, 0.0)          # lifts off again: free
+    assert js[0, K.JS_SN] == 0.0 and js[0, K.JS_T1] == 0.0 and js[0, K.JS_WP] == pytest.approx(1e-5)
+
+
+def test_rigid_column_under_gravity_has_joint_stress_rho_g_height_above():
+    """A stack of 5 rigid blocks under gravity (declared) on a fixed base:
+    each bed joint at height z carries sigma_n = -rho g (H - z) (1e-6),
+    uniformly; without gravity declared nothing loads it."""
+    for gravity in (True, False):
+        m = Model()
+        base = m.add_box([0, 0, -0.1], [0.2, 0.2, 0.0], (2, 2, 1), MAT, rigid=True)
+        for k in range(5):
+            m.add_box([0, 0, 0.1 * k], [0.2, 0.2, 0.1 * (k + 1)], (2, 2, 2), MAT, rigid=True)
+        m.set_joints("friction", JointProps(kn=1e10, ks=1e10, phi=30.0))
+        m.fix([base.node0])
+        m.fix_rotation(base)
+        if gravity:
+            m.gravity = np.array([0.0, 0.0, -G])
+        s = Solver(m)
+        b = m.build()
+        pts = b["joints"]["point"]
+        if not gravity:
+            assert s.run(1000, ratio_tol=1e-8).status == "converged"
+            assert np.all(s.js[:, K.JS_SN] == 0.0)
+            continue
+        assert s.run(200_000, ratio_tol=1e-9).status == "converged"
+        exact = -RHO * G * (0.5 - pts[:, 2])
+        np.testing.assert_allclose(s.js[:, K.JS_SN], exact, rtol=1e-6)
