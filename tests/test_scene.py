@@ -90,3 +90,17 @@ def test_joint_stiffness_follows_mean_unit_modulus():
     for c in sp.model.contacts:
         expected = joint_kn(0.5 * (E[c.block_a] + E[c.block_b]), 0.1, 0.01)
         np.testing.assert_allclose(par[c.sc, K.JP_KN], expected)
+
+
+def test_rigid_units_refuse_a_final_state_and_build_without_zones():
+    """Rigid units have no zones to write (outputs.state refused, naming the
+    field); the wallette with rigid units builds one node per unit and the
+    joints of the deformable one."""
+    with pytest.raises(InputError) as e:
+        load_scene(WILLIS, ["physics.blocks=rigid", "outputs.state=true"])
+    assert e.value.field == "outputs.state"
+    rigid = build(load_scene(WILLIS, ["physics.blocks=rigid"]))
+    full = build(load_scene(WILLIS))
+    assert rigid.model.n_nodes == 24 and "tets" not in rigid.model.build()
+    assert len(rigid.model.contacts) == len(full.model.contacts)
+    np.testing.assert_array_equal(rigid.contact_joint, full.contact_joint)

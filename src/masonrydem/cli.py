@@ -15,9 +15,8 @@ def _run(args):
     from .runner import run_scene, write_outputs
     from .scene import load_scene
     numba.set_num_threads(max(1, args.threads))
-    scene = load_scene(args.scene, args.set)       # refused here, before any computation
-    if args.state:
-        scene["outputs"]["state"] = True
+    # refused here, before any computation
+    scene = load_scene(args.scene, list(args.set or []) + (["outputs.state=true"] if args.state else []))
     row, curve, specimen, solver = run_scene(scene, progress=not args.quiet)
     write_outputs(args.out, row, curve, specimen, solver, state=scene["outputs"]["state"])
     print(f"{row['status']}: P_max {row['P_max_kN']:.3f} kN at {row['disp_at_peak_mm']:.3f} mm, "

@@ -78,6 +78,9 @@ def validate_scene(scene):
     if phys["displacements"] == "large" and phys["blocks"] != "rigid":
         raise InputError("physics.displacements", "large displacements need rigid blocks: deformable blocks "
                          f"({phys['blocks']}) are small-displacement (strains on the initial geometry)")
+    if phys["blocks"] == "rigid" and scene["outputs"]["state"]:
+        raise InputError("outputs.state", "the final state (VTK: zones and their damage) exists for deformable "
+                         "blocks only, not for rigid ones")
     g = scene["geometry"]
     n_units = g["courses"] * g["units_per_course"]
     n_joints = len(running_bond_joints(g["courses"], g["units_per_course"]))
