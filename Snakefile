@@ -16,6 +16,7 @@ include: "workflow/rules/analysis.smk"
 include: "workflow/rules/accuracy.smk"
 include: "workflow/rules/stability.smk"
 include: "workflow/rules/reduced.smk"
+include: "workflow/rules/specimens.smk"
 
 
 rule all:
@@ -26,3 +27,4 @@ rule all:
         get_accuracy_outputs(),
         get_stability_outputs(),
         get_reduced_outputs(),
+        get_specimen_outputs(),

@@ -74,6 +74,20 @@ def test_smoke_stability_and_reduced_outputs(smoke):
     assert red.loc[red.model == "rigid", "failure_mode"].tolist() == ["joint"]
 
 
+def test_smoke_specimens(smoke):
+    """Both further tests run from the workflow, each in its row; the
+    triplet's peak lies at or below the plastic limit c + sigma tan(phi)
+    of its joints (softening and a non-uniform shear stress bring it
+    below; tests/test_specimens.py measures how close) and its figure and
+    caption are written."""
+    t = pd.read_csv(smoke / "specimens" / "summary.csv")
+    assert sorted(t.test) == ["tension", "triplet"] and t.status.isin(["load_drop", "displacement_limit"]).all()
+    trip = t[t.test == "triplet"].iloc[0]
+    assert -0.03 < trip.peak_error <= 1e-3
+    assert (smoke / "specimens" / "response.png").stat().st_size > 0
+    assert "c + sigma tan phi" in (smoke / "report" / "specimens.rst").read_text()
+
+
 def test_rerun_does_nothing(smoke):
     """Nothing to do after a complete run (outputs are up to date)."""
     r = subprocess.run(SNAKEMAKE + ["-n", "--configfile", "config/smoke.yaml", "--config", f"results={smoke}"],

@@ -1,5 +1,6 @@
-"""One simulation of a scene: precompression, then displacement-controlled
-bending; the result row, the curve and (on request) the final state.
+"""One simulation of a scene: precompression, then the displacement-
+controlled test (bending, tension or triplet shear); the result row, the
+curve and (on request) the final state.
 
 Nothing is lost: a run that fails or diverges still yields its row, with
 its status and message.  Outputs are written to temporary files and renamed
@@ -81,19 +82,26 @@ def run_scene(scene, progress=True):
         pre_status = res.status
     u0 = float(s.last[3])
     start = s.step
-    bent = res is None or res.status in ("converged", "max_steps")
-    if bent:
-        bend = load["bending"]
-        for strip in specimen.loads:
-            s.set_strip_velocity(strip, [0.0, bend["rate"], 0.0])
-        res = s.run(bend["max_steps"], disp_limit=u0 + bend["max_displacement"], load_drop=bend["load_drop"],
-                    monitor="load", ramp_steps=bend["ramp_steps"],
-                    progress=Progress("bending", u0) if progress else None)
+    loaded = res is None or res.status in ("converged", "max_steps")
+    stage = specimen.stage
+    if loaded:
+        s.vpres[specimen.drive] = specimen.velocity
+        res = s.run(stage["max_steps"], disp_limit=u0 + stage["max_displacement"], load_drop=stage["load_drop"],
+                    monitor="load", ramp_steps=stage["ramp_steps"],
+                    progress=Progress(specimen.test, u0) if progress else None)
     H = s.history.array()
     H = H[H[:, 0] > start] if H.size else np.zeros((0, 5))
-    # no bending stage (the precompression failed): no peak
-    peak_P, peak_u, peak_step, peak_ratio = (s.history.peak[0] if bent and 0 in s.history.peak
+    # no loading stage (the precompression failed): no peak
+    peak_P, peak_u, peak_step, peak_ratio = (s.history.peak[0] if loaded and 0 in s.history.peak
                                              else (math.nan, math.nan, -1, math.nan))
+    status, message = res.status, res.message
+    # a peak inside the velocity ramp does not count (History): a run that
+    # reached its stop criteria would report a later, lower load as its peak
+    ramp = H[H[:, 0] <= start + stage["ramp_steps"], 3]
+    if res.status in GOOD and ramp.size and not ramp.max() <= peak_P:
+        status, message = "peak_in_ramp", (f"the load peaked at {ramp.max() / 1e3:.4g} kN within the velocity ramp "
+                                           f"(the first {stage['ramp_steps']} steps), where a peak does not count: "
+                                           "lower the rate or the ramp steps")
     # after the peak: did the run stay near equilibrium, or did it snap (a
     # sudden crack that displacement control cannot follow, carried by inertia)?
     ratios_after = H[H[:, 0] > peak_step, 1] if peak_step >= 0 else H[:0, 1]
@@ -112,9 +120,9 @@ def run_scene(scene, progress=True):
         strength_mpa=strength(peak_P, specimen) / 1e6,
         **classify(specimen, s, out["crack_damage"], out["crack_through"], out["broken_joint_damage"]),
         drop_after_peak=drop,
-        status=res.status,
-        ok=res.status in GOOD,
-        message=res.message,
+        status=status,
+        ok=status in GOOD,
+        message=message,
         precompression_status=pre_status,
         steps=int(s.step),
         peak_step=int(peak_step),

@@ -89,13 +89,19 @@ def validate_scene(scene):
             if isinstance(values, list) and len(values) != n:
                 raise InputError(f"materials.{key}.{name}",
                                  f"needs one value per {what[:-1]} ({n} {what}), got {len(values)}")
-    length = _unit_size(scene)[0] * (g["units_per_course"] + (g["bond_offset"] if g["courses"] > 1 else 0))
-    bend = scene["loading"]["bending"]
-    for key in ("supports_x", "loads_x"):
-        for i, x in enumerate(bend[key]):
-            if not (0.5 * bend["strip_width"] <= x <= length - 0.5 * bend["strip_width"]):
-                raise InputError(f"loading.bending.{key}.{i}",
-                                 f"{x} m is outside the wall (0 to {length:.4g} m)")
+    test = scene["loading"]["test"]
+    if test == "bending":
+        length = _unit_size(scene)[0] * (g["units_per_course"] + (g["bond_offset"] if g["courses"] > 1 else 0))
+        bend = scene["loading"]["bending"]
+        for key in ("supports_x", "loads_x"):
+            for i, x in enumerate(bend[key]):
+                if not (0.5 * bend["strip_width"] <= x <= length - 0.5 * bend["strip_width"]):
+                    raise InputError(f"loading.bending.{key}.{i}",
+                                     f"{x} m is outside the wall (0 to {length:.4g} m)")
+    if test == "triplet":
+        for key, want in (("courses", 3), ("units_per_course", 1)):
+            if g[key] != want:
+                raise InputError(f"geometry.{key}", f"a triplet test has {want} (three units stacked), got {g[key]}")
     return scene
 
 
@@ -159,12 +165,22 @@ class Specimen:
     units: list            # (course, index) of block id i
     joints: list           # (kind, (course, index)) of joint j
     contact_joint: np.ndarray   # joint number of each model contact
-    loads: list
-    supports: list
+    drive: np.ndarray      # nodes whose prescribed velocity drives the test (the 'load' monitor's)
+    velocity: np.ndarray   # their velocity in the loading stage (m per step)
+    supports: list         # bending: the support strips
     E_b: np.ndarray        # per unit
     f_tu: np.ndarray
     f_tj: np.ndarray       # per joint
     phi_j: np.ndarray
+
+    @property
+    def test(self):
+        return self.scene["loading"]["test"]
+
+    @property
+    def stage(self):
+        """The loading stage's settings (rate, ramp, stop criteria)."""
+        return self.scene["loading"][self.test]
 
     @property
     def shear_span(self):
@@ -238,49 +254,105 @@ def build(scene):
                           GI=GI, GII=mj["GII_ratio"] * GI)
 
     m.set_joints(phys["joints"], props, refine=scene["numerics"]["subcontact_refine"])
-    bend = scene["loading"]["bending"]
-    # base: roller (z fixed); x fixed at one base point, the node nearest the
-    # span centre at mid-thickness (the least restraint: a line of x-fixed
-    # nodes would add stiffness, and on a head joint would pin it shut);
-    # y is held by the strips.  Rigid units: the roller holds each bottom
-    # unit's z and its rotations about x and y; x is fixed at the bottom
-    # unit nearest the span centre
-    centre = np.array([np.mean(bend["supports_x"]), 0.5 * T, 0.0])
-    if rigid:
-        bottom = [b for b in m.blocks if b.lo[2] < GEOM_TOL]
-        for b in bottom:
-            m.fix([b.node0], dofs=[2])
-            m.fix_rotation(b, dofs=(0, 1))
-        middle = min(bottom, key=lambda b: np.linalg.norm(b.centroid[:2] - centre[:2]))
-        m.fix([middle.node0], dofs=[0])
-    else:
-        base = m.select(lambda x: x[:, 2] < GEOM_TOL)
-        m.fix(base, dofs=[2])
-        m.fix(base[np.argmin(np.linalg.norm(m.x0[base] - centre, axis=1))], dofs=[0])
-    w = 0.5 * bend["strip_width"]
-    ks = bend["strip_stiffness_ratio"] * joint_kn(float(np.mean(E_b)), mj["Em_ratio"], t)
+    test = scene["loading"]["test"]
     Htot = nk * H
-    # strips on planes normal to y: plane coordinates (p, q) = (z, x)
-    supports = [m.add_strip(f"support{i}", 1, T, +1, ((0.0, Htot), (xs - w, xs + w)), ks)
-                for i, xs in enumerate(bend["supports_x"])]
-    loads = [m.add_strip(f"load{i}", 1, 0.0, -1, ((0.0, Htot), (xl - w, xl + w)), ks)
-             for i, xl in enumerate(bend["loads_x"])]
-    m.add_monitor("load", loads, 1)
+    blocks = {u: blk for u, blk in zip(units, m.blocks)}
+    if test == "bending":
+        drive, velocity, supports = _bending(m, scene, rigid, T, Htot, E_b)
+    else:
+        # base roller; y held at one base node (rigid units: the bottom
+        # left unit); x is held by the grips
+        _roller(m, rigid, m.blocks[0].lo, dof=1)
+        ends = [(blocks[(k, 0)], blocks[(k, nu - 1)]) for k in range(nk)]
+        if test == "tension":   # every course gripped at both ends
+            held, pulled = [lo for lo, _ in ends], [hi for _, hi in ends]
+            m.fix(_grip(m, held, 0), dofs=[0])
+        else:                   # triplet: outer units held on the right, the middle one pushed on the left
+            held, pulled = [blocks[(0, 0)], blocks[(2, 0)]], [blocks[(1, 0)]]
+            m.fix(_grip(m, held, 1), dofs=[0])
+        drive = _grip(m, pulled, 0 if test == "triplet" else 1)
+        m.fix(drive, dofs=[0])
+        m.add_monitor("load", drive, 0)
+        velocity, supports = np.array([scene["loading"][test]["rate"], 0.0, 0.0]), []
     p = scene["loading"]["precompression"]["pressure"]
     if p:
         m.add_pressure(2, Htot, +1, ((-1.0, (nu + 1) * L), (-1.0, T + 1.0)), p)
     if phys["gravity"]:
         m.gravity = np.array([0.0, 0.0, -9.81])
     m.build()
+    if test == "bending":   # the strips' nodes are numbered by build
+        drive = np.array([strip.node for strip in drive], np.int64)
     contact_joint = np.array([joint_of(m.blocks[c.block_a], m.blocks[c.block_b]) for c in m.contacts])
     missing = sorted(set(range(len(joints))) - set(contact_joint.tolist()))
     if missing:
         raise InputError("geometry", f"joints {missing} touch no unit pair; check the bond")
-    return Specimen(m, scene, units, joints, contact_joint, loads, supports, E_b, f_tu, f_tj, phi_j)
+    return Specimen(m, scene, units, joints, contact_joint, drive, velocity, supports, E_b, f_tu, f_tj, phi_j)
+
+
+def _roller(m, rigid, point, dof):
+    """The base: a roller (z fixed) under the bottom face, and ``dof`` fixed
+    at the base node nearest ``point`` (the least restraint against rigid
+    motion; a line of fixed nodes would add stiffness).  Rigid units: the
+    roller holds each bottom unit's z and its rotations about x and y."""
+    if rigid:
+        bottom = [b for b in m.blocks if b.lo[2] < GEOM_TOL]
+        for b in bottom:
+            m.fix([b.node0], dofs=[2])
+            m.fix_rotation(b, dofs=(0, 1))
+        nearest = min(bottom, key=lambda b: np.linalg.norm(b.centroid[:2] - point[:2]))
+        m.fix([nearest.node0], dofs=[dof])
+    else:
+        base = m.select(lambda x: x[:, 2] < GEOM_TOL)
+        m.fix(base, dofs=[2])
+        m.fix(base[np.argmin(np.linalg.norm(m.x0[base] - point, axis=1))], dofs=[dof])
+
+
+def _grip(m, blocks, side):
+    """The nodes of the end faces (normal to x; side 0 = low x, 1 = high x)
+    of ``blocks``: a platen that holds or moves them along x.  A rigid
+    unit: its node, with its rotations about y and z held (the platen
+    keeps the face flat)."""
+    nodes = []
+    for b in blocks:
+        if b.rigid:
+            nodes.append(b.node0)
+            m.fix_rotation(b, dofs=(1, 2))
+        else:
+            x = m.x0[b.node0:b.node0 + b.n_nodes, 0]
+            nodes.extend(b.node0 + np.flatnonzero(np.abs(x - (b.hi[0] if side else b.lo[0])) < GEOM_TOL))
+    return np.asarray(nodes, np.int64)
+
+
+def _bending(m, scene, rigid, T, Htot, E_b):
+    """Four-point out-of-plane bending (study.md, 2): the base roller with x
+    fixed at the node nearest the span centre at mid-thickness (on a head
+    joint a line of x-fixed nodes would pin it shut; y is held by the
+    strips), support strips on the back face, load strips on the front
+    face.  Returns the load strips, their velocity and the supports."""
+    bend, mj = scene["loading"]["bending"], scene["materials"]["joints"]
+    _roller(m, rigid, np.array([np.mean(bend["supports_x"]), 0.5 * T, 0.0]), dof=0)
+    w = 0.5 * bend["strip_width"]
+    ks = bend["strip_stiffness_ratio"] * joint_kn(float(np.mean(E_b)), mj["Em_ratio"], scene["geometry"]["joint_thickness"])
+    # strips on planes normal to y: plane coordinates (p, q) = (z, x)
+    supports = [m.add_strip(f"support{i}", 1, T, +1, ((0.0, Htot), (xs - w, xs + w)), ks)
+                for i, xs in enumerate(bend["supports_x"])]
+    loads = [m.add_strip(f"load{i}", 1, 0.0, -1, ((0.0, Htot), (xl - w, xl + w)), ks)
+             for i, xl in enumerate(bend["loads_x"])]
+    m.add_monitor("load", loads, 1)
+    return loads, np.array([0.0, bend["rate"], 0.0]), supports
 
 
 def strength(P, specimen):
-    """Flexural strength sigma = 6 M / (b h^2), M = P/2 a (study.md, 2)."""
+    """The test's load as a stress.  Bending: the flexural strength
+    sigma = 6 M / (b h^2), M = P/2 a (study.md, 2); tension: P over the
+    gross section (wall height x thickness); triplet: the shear stress
+    P / 2A on the two bed joints."""
+    g = specimen.scene["geometry"]
+    _, T, H = _unit_size(specimen.scene)
+    if specimen.test == "tension":
+        return P / (g["courses"] * H * T)
+    if specimen.test == "triplet":
+        return P / (2.0 * _unit_size(specimen.scene)[0] * T)
     b = specimen.scene["loading"]["bending"]["section_height"]
-    h = specimen.scene["geometry"]["unit"]["width"]
+    h = g["unit"]["width"]
     return 6.0 * (0.5 * specimen.shear_span * P) / (b * h * h)

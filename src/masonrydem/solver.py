@@ -173,9 +173,6 @@ class Solver:
         self.h_min = float(np.min(np.cbrt(6.0 * b["vol"]))) if nt else 1.0
 
     # --- controls -------------------------------------------------------
-    def set_strip_velocity(self, strip, velocity):
-        self.vpres[strip.node] = np.asarray(velocity, float)
-
     def monitor_index(self, name):
         for g, (n, _, _) in enumerate(self.model.monitors):
             if n == name:

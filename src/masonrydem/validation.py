@@ -102,3 +102,57 @@ def reduced_table(results, tolerance):
                          good_enough=bool(r["ok"] and abs(change) <= tolerance
                                           and r["failure_mode"] == full["failure_mode"])))
     return pd.DataFrame(rows)
+
+
+def specimen_table(results, curves, scenes):
+    """One row per further specimen (tension, triplet): peak, the test's
+    stress at the peak and at the end of the run (the mean over the last
+    tenth of the displacement).  Triplets also get the
+    Coulomb closed forms of their bed joints: peak shear stress
+    c_j + sigma_v tan(phi) (every point of the joint at its strength at
+    once) and residual sigma_v tan(phi) (cohesion gone, friction left)."""
+    rows = []
+    for case, r in results.items():
+        sc, curve = scenes[case], curves[case]
+        u = curve["displacement_mm"]
+        end = float(curve["load_kN"][u >= 0.9 * u.max()].mean()) / r["P_max_kN"]   # the last tenth
+        row = dict(case=case, test=sc["loading"]["test"], sigma_v_mpa=r["sigma_v_mpa"], f_tj_mpa=r["f_tj_mpa"],
+                   P_max_kN=r["P_max_kN"], disp_at_peak_mm=r["disp_at_peak_mm"], stress_mpa=r["strength_mpa"],
+                   end_stress_mpa=end * r["strength_mpa"], failure_mode=r["failure_mode"], status=r["status"],
+                   steps=r["steps"], wall_time_s=r["wall_time_s"], classification=r["classification"])
+        if row["test"] == "triplet":
+            j = sc["materials"]["joints"]
+            mu = np.tan(np.radians(j["phi"]))
+            row.update(peak_closed_form_mpa=(j["c_ratio"] * j["ft"] + sc["loading"]["precompression"]["pressure"] * mu)
+                       / 1e6, residual_closed_form_mpa=r["sigma_v_mpa"] * mu)
+            row.update(peak_error=row["stress_mpa"] / row["peak_closed_form_mpa"] - 1,
+                       residual_error=row["end_stress_mpa"] / row["residual_closed_form_mpa"] - 1)
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def specimen_figure(table, curves, path):
+    """Tension: load against the pulled faces' displacement; triplet: shear
+    stress on the bed joints against the middle unit's slip, with the
+    closed-form peak (dashed) and residual (dotted)."""
+    import matplotlib.pyplot as plt
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for r in table[table.test == "tension"].itertuples():
+        c = curves[r.case]
+        a.plot(c.displacement_mm, c.load_kN, label=f"{r.case}: {r.P_max_kN:.1f} kN, {r.failure_mode}")
+    a.set(xlabel="displacement of the pulled faces (mm)", ylabel="load P (kN)",
+          title="direct tension parallel to the bed joints")
+    for r in table[table.test == "triplet"].itertuples():
+        c = curves[r.case]
+        line, = b.plot(c.displacement_mm, c.load_kN / r.P_max_kN * r.stress_mpa,
+                       label=f"sigma_v {r.sigma_v_mpa:g} MPa: peak {r.stress_mpa:.3f} MPa")
+        b.axhline(r.peak_closed_form_mpa, ls="--", lw=0.8, color=line.get_color())
+        b.axhline(r.residual_closed_form_mpa, ls=":", lw=0.8, color=line.get_color())
+    b.set(xlabel="slip of the middle unit (mm)", ylabel="shear stress P / 2A (MPa)",
+          title="triplet shear\n(dashed: c + sigma tan phi, dotted: sigma tan phi)")
+    for ax in (a, b):
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)

@@ -60,6 +60,15 @@ def get_reduced_outputs():
     return [R + "/reduced/summary.csv"] if config.get("reduced") else []
 
 
+def specimen_cases():
+    """Case -> {scene, overrides} of the further specimens (config 'specimens')."""
+    return {c["name"]: c for c in config.get("specimens", [])}
+
+
+def get_specimen_outputs():
+    return [R + "/specimens/summary.csv"] if config.get("specimens") else []
+
+
 def get_stability_outputs():
     return [R + "/stability/hard_cases.csv"] if config.get("hard_cases") else []
 
