@@ -378,3 +378,28 @@ def test_elastic_blocks_never_evaluate_a_yield_function():
     sxx, ept = results[K.ZONE_ELASTIC]
     assert sxx == pytest.approx(1e9 * 1e-5 / 0.1, rel=0.05) and ept == 0.0
     assert results[K.ZONE_MOHR_COULOMB][1] > 0.0
+
+
+def test_without_gravity_the_kernel_never_reads_the_gravity_masses():
+    """The kernel is specialised on whether the model has gravity: without
+    it, the masses that gravity would load (``mphys``) are never read.
+    Shown by poisoning them with NaN: a model without gravity runs exactly
+    as with finite masses (a computed m g with g = 0 would give NaN * 0 =
+    NaN everywhere); the same model with gravity declared turns
+    non-finite."""
+    def bar(gravity, poison):
+        m = Model()
+        m.add_box([0, 0, 0], [0.1, 0.02, 0.02], (4, 1, 1), Elastic(E=1e9, nu=0.2, density=2000.0))
+        left = m.select(lambda x: x[:, 0] < 1e-9)
+        m.fix(left)
+        m.fix(m.select(lambda x: x[:, 0] > 0.1 - 1e-9), dofs=[0], velocity=1e-8)
+        m.gravity = np.array(gravity)
+        b = m.build()
+        if poison:
+            b["mphys"][:] = np.nan
+        s = Solver(m)
+        s.run(500)
+        return s
+    clean, poisoned = bar([0.0, 0.0, 0.0], False), bar([0.0, 0.0, 0.0], True)
+    assert np.isfinite(poisoned.u).all() and np.array_equal(clean.u, poisoned.u)
+    assert not np.isfinite(bar([0.0, 0.0, -9.81], True).u).all()

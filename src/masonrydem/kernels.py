@@ -652,7 +652,7 @@ def _record_step(step, hist, unbal, applied, ke, f, u, mon_nodes, mon_dir, mon_g
 
 
 @njit(**_CACHE)
-def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
+def run_chunk(zlaw, jlaw, gon, nsteps, dt, alpha, lf, vf0, dvf, grav,
               u, v, f, mass, mgrav, fixed, vpres, fext, x0,
               tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
               j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
@@ -695,10 +695,11 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
         ke = 0.0
         wk = 0.0
         for i in range(nn):
-            mg = mgrav[i]
             for d in range(3):
-                a0, a1, a2, a3 = _advance_dof(i, d, lf * fext[i, d] + mg * grav[d], f, v, u, mass, fixed,
-                                              vpres, vf, alpha, dt)
+                load = lf * fext[i, d]
+                if gon:     # gravity only when the scene declares it (literal: compiled away otherwise)
+                    load += mgrav[i] * grav[d]
+                a0, a1, a2, a3 = _advance_dof(i, d, load, f, v, u, mass, fixed, vpres, vf, alpha, dt)
                 unbal += a0
                 applied += a1
                 ke += a2
@@ -712,15 +713,16 @@ def run_chunk(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
 
 
 @njit(**_CACHE)
-def run_chunk_entry(zlaw, jlaw, nsteps, dt, alpha, lf, vf0, dvf, grav,
+def run_chunk_entry(zlaw, jlaw, gon, nsteps, dt, alpha, lf, vf0, dvf, grav,
                     u, v, f, mass, mgrav, fixed, vpres, fext, x0,
                     tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
                     j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
                     b_nodes, b_cnt, b_w, b_axes, b_area, bp, bs,
                     mon_nodes, mon_dir, mon_grp, hist, work, de, ev_, pending, a, evec):
-    """Entry point: specialises ``run_chunk`` on the literal law ids, so only
-    the laws a model uses are compiled (and cached)."""
-    return run_chunk(literally(zlaw), literally(jlaw), nsteps, dt, alpha, lf,
+    """Entry point: specialises ``run_chunk`` on the literal law ids and
+    gravity flag, so only the laws and effects a model uses are compiled
+    (and cached)."""
+    return run_chunk(literally(zlaw), literally(jlaw), literally(gon), nsteps, dt, alpha, lf,
                      vf0, dvf, grav, u, v, f, mass, mgrav, fixed, vpres, fext, x0,
                      tets, dn, vol, wt, gptr, gnodes, gnptr, zp, zs, stress,
                      j_nodes, j_cnt, j_w, j_axes, j_area, jp, js,
@@ -772,7 +774,7 @@ def _body_vec(R, b, x, y, z):
 
 
 @njit(**_CACHE)
-def run_chunk_rigid(jlaw, large, nsteps, dt, alpha, lf, vf0, dvf, grav,
+def run_chunk_rigid(jlaw, large, gon, nsteps, dt, alpha, lf, vf0, dvf, grav,
                     u, v, f, mass, mgrav, fixed, vpres,
                     R, om, mom, iinv, rfixed, ompres, rlen, fl,
                     pl_body, pl_lever, pl_force,
@@ -883,10 +885,11 @@ def run_chunk_rigid(jlaw, large, nsteps, dt, alpha, lf, vf0, dvf, grav,
         ke = 0.0
         wk = 0.0
         for i in range(nn):
-            mg = mgrav[i]
             for d in range(3):
-                a0, a1, a2, a3 = _advance_dof(i, d, fl[i, d] + mg * grav[d], f, v, u, mass, fixed,
-                                              vpres, vf, alpha, dt)
+                load = fl[i, d]
+                if gon:
+                    load += mgrav[i] * grav[d]
+                a0, a1, a2, a3 = _advance_dof(i, d, load, f, v, u, mass, fixed, vpres, vf, alpha, dt)
                 unbal += a0
                 applied += a1
                 ke += a2
@@ -939,15 +942,15 @@ def run_chunk_rigid(jlaw, large, nsteps, dt, alpha, lf, vf0, dvf, grav,
 
 
 @njit(**_CACHE)
-def run_chunk_rigid_entry(jlaw, large, nsteps, dt, alpha, lf, vf0, dvf, grav,
+def run_chunk_rigid_entry(jlaw, large, gon, nsteps, dt, alpha, lf, vf0, dvf, grav,
                           u, v, f, mass, mgrav, fixed, vpres, R, om, mom, iinv, rfixed, ompres, rlen, fl,
                           pl_body, pl_lever, pl_force,
                           j_body, j_lever, j_axes, j_area, jp, js,
                           b_body, b_lever, b_axes, b_area, bp, bs,
                           mon_nodes, mon_dir, mon_grp, hist, work):
-    """Entry point: specialises ``run_chunk_rigid`` on the literal joint law
-    and displacement formulation."""
-    return run_chunk_rigid(literally(jlaw), literally(large), nsteps, dt, alpha, lf, vf0, dvf, grav,
+    """Entry point: specialises ``run_chunk_rigid`` on the literal joint law,
+    displacement formulation and gravity flag."""
+    return run_chunk_rigid(literally(jlaw), literally(large), literally(gon), nsteps, dt, alpha, lf, vf0, dvf, grav,
                            u, v, f, mass, mgrav, fixed, vpres, R, om, mom, iinv, rfixed, ompres, rlen, fl,
                            pl_body, pl_lever, pl_force,
                            j_body, j_lever, j_axes, j_area, jp, js,

@@ -173,6 +173,12 @@ class Solver:
         self.h_min = float(np.min(np.cbrt(6.0 * b["vol"]))) if nt else 1.0
 
     # --- controls -------------------------------------------------------
+    @property
+    def gravity_on(self):
+        """1 when the model has gravity: the kernels are compiled with or
+        without it."""
+        return int(np.any(self.gravity != 0.0))
+
     def monitor_index(self, name):
         for g, (n, _, _) in enumerate(self.model.monitors):
             if n == name:
@@ -202,7 +208,7 @@ class Solver:
         b = self.b
         j, br = b["joints"], b["bearings"]
         return K.run_chunk_entry(
-            b["zlaw"], b["jlaw"], nsteps, self.dt, self.alpha, self.load_factor,
+            b["zlaw"], b["jlaw"], self.gravity_on, nsteps, self.dt, self.alpha, self.load_factor,
             self.velocity_factor, self._ramp, self.gravity,
             self.u, self.v, self.f, self.mass, b["mphys"], self.fixed, self.vpres, b["fext"], b["x0"],
             b["tets"], b["dn"], b["vol"], b["wt"], b["gptr"], b["gnodes"], b["gnptr"],
@@ -396,7 +402,7 @@ class RigidSolver(Solver):
         b = self.b
         j, br = b["joints"], b["bearings"]
         return K.run_chunk_rigid_entry(
-            b["jlaw"], b["large"], nsteps, self.dt, self.alpha, self.load_factor,
+            b["jlaw"], b["large"], self.gravity_on, nsteps, self.dt, self.alpha, self.load_factor,
             self.velocity_factor, self._ramp, self.gravity,
             self.u, self.v, self.f, self.mass, b["mphys"], self.fixed, self.vpres,
             self.R, self.om, self.mom, self.iinv, b["rfixed"], self.ompres, b["rlen"], self._fl,
