@@ -104,3 +104,25 @@ def test_rigid_units_refuse_a_final_state_and_build_without_zones():
     assert rigid.model.n_nodes == 24 and "tets" not in rigid.model.build()
     assert len(rigid.model.contacts) == len(full.model.contacts)
     np.testing.assert_array_equal(rigid.contact_joint, full.contact_joint)
+
+
+@pytest.mark.parametrize("spreader", [True, False])
+def test_precompression_force_and_where_it_acts(spreader):
+    """The vertical force on the top course is sigma_v times its plan area
+    (960 x 114 mm) either way.  As a uniform pressure on the whole top face,
+    the force on the end unit of the toothed top course (x 840-1080 mm)
+    acts at x = 960 mm, on the edge of the course below: neutral
+    equilibrium.  With the spreader it acts where the top course bears on
+    the course below, x 120-960 mm, at sigma_v 960 / 840, and the end
+    unit's resultant lies at x = 900 mm, inside its bearing."""
+    sigma = 0.5e6
+    sp = build(load_scene(WILLIS, [f"loading.precompression.pressure={sigma}",
+                                   f"loading.precompression.spreader={str(spreader).lower()}"]))
+    b = sp.model.build()
+    fz, x = b["fext"][:, 2], b["x0"][:, 0]
+    assert fz.sum() == pytest.approx(-sigma * 0.960 * 0.114, rel=1e-12)
+    loaded = fz != 0.0
+    lo, hi = (0.120, 0.960) if spreader else (0.120, 1.080)
+    assert x[loaded].min() == pytest.approx(lo) and x[loaded].max() == pytest.approx(hi)
+    end = b["block_of_node"] == sp.units.index((5, 3))
+    assert np.sum(fz[end] * x[end]) / np.sum(fz[end]) == pytest.approx(0.900 if spreader else 0.960, abs=1e-9)

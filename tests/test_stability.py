@@ -207,10 +207,7 @@ def test_hard_case(runs, name):
     """Each hard case ends with a usable status and a finite peak reached
     near equilibrium; its failure mode is the one its strengths call for;
     the post-peak branch is labelled quasi-static or dynamic (a snap the
-    displacement control cannot follow), never left unsaid; and for the
-    property extremes the pre-peak branch is monotone (no fall of more than
-    5 % of the peak above half of it: a single joint cracking sheds a few
-    per cent, as measured, an oscillating or collapsing branch more)."""
+    displacement control cannot follow), never left unsaid."""
     from masonrydem.solver import PEAK_RATIO
     row, curve = runs[name]
     expect = HARD[name]["expect"]
@@ -218,14 +215,28 @@ def test_hard_case(runs, name):
     P = row["P_max_kN"]
     assert math.isfinite(P) and P > 0
     assert row["ratio_at_peak"] < PEAK_RATIO
-    if name in EXTREMES:
-        assert _pre_peak_dip(curve, P) < 0.05
     if expect != "any":
         assert row["failure_mode"] == expect, row["classification"]
     # a run stopped at its displacement limit while still rising has no
     # post-peak branch, and its status says so
     assert row["post_peak"] in ("quasi-static", "dynamic") or (
         row["post_peak"] == "none" and row["status"] == "displacement_limit")
+
+
+@pytest.mark.parametrize("name", [
+    # open (issue 6): f_tj = 0.05 MPa, beyond the study's range, rings at the
+    # default rate (8 x 6 x 2 cells): the load oscillates by about 5 % of the
+    # peak on the way up (dip 6.5 %, peak at an unbalanced-force ratio of
+    # 0.06); at half the rate the branch is monotone (dip 0.3 %), checked below
+    pytest.param(n, marks=pytest.mark.xfail(strict=True, reason="rings at the default rate"))
+    if n == "ftj_0.05" else n for n in EXTREMES] + [f"{n}_half_rate" for n in HALF_RATE])
+def test_pre_peak_branch_is_monotone(runs, name):
+    """For the property extremes (and the half-rate runs) the pre-peak
+    branch is monotone: no fall of more than 5 % of the peak above half of
+    it (a single joint cracking sheds a few per cent, as measured; an
+    oscillating or collapsing branch more)."""
+    row, curve = runs[name]
+    assert _pre_peak_dip(curve, row["P_max_kN"]) < 0.05
 
 
 def test_smaller_fracture_energy_never_carries_more(runs):
@@ -247,9 +258,9 @@ def test_precompression_raises_the_peak(runs):
 
 @pytest.mark.parametrize("name", [
     # open (issue 6): joints beyond the study's range are rate-dependent at
-    # the default rate.  f_tj = 0.05 MPa: P_max 2.918 kN at the default rate,
-    # 2.810 at half, 2.792 at a quarter (Richardson limit 2.788): +4.6 % and
-    # +0.8 %; the peak comes at an unbalanced-force ratio of 0.07
+    # the default rate.  f_tj = 0.05 MPa: P_max 2.983 kN at the default rate,
+    # 2.854 at half (+4.5 %); the peak comes at an unbalanced-force ratio of
+    # 0.06 (at half the rate 0.009)
     pytest.param(n, marks=pytest.mark.xfail(strict=True, reason="rate-dependent at the default rate"))
     if n == "ftj_0.05" else n for n in HALF_RATE])
 def test_half_rate_changes_the_peak_by_less_than_2_percent(runs, name):

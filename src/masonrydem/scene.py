@@ -217,8 +217,13 @@ def build(scene):
     rigid = phys["blocks"] == "rigid"
     m.large = phys["displacements"] == "large"
     units = []
-    for k in range(nk):
+    def course(k):
+        """x-range of course k (odd courses shifted by the bond offset)."""
         x0 = g["bond_offset"] * L if k % 2 else 0.0
+        return x0, x0 + nu * L
+
+    for k in range(nk):
+        x0 = course(k)[0]
         for i in range(nu):
             uid = len(units)
             Gf = mu["Gf"]
@@ -274,9 +279,14 @@ def build(scene):
         m.fix(drive, dofs=[0])
         m.add_monitor("load", drive, 0)
         velocity, supports = np.array([scene["loading"][test]["rate"], 0.0, 0.0]), []
-    p = scene["loading"]["precompression"]["pressure"]
-    if p:
-        m.add_pressure(2, Htot, +1, ((-1.0, (nu + 1) * L), (-1.0, T + 1.0)), p)
+    pre = scene["loading"]["precompression"]
+    if pre["pressure"]:
+        # the top course, or with a spreader the part of it that bears on
+        # the course below (schema: loading.precompression.spreader)
+        lo, hi = course(nk - 1)
+        if pre["spreader"] and nk > 1:
+            lo, hi = max(lo, course(nk - 2)[0]), min(hi, course(nk - 2)[1])
+        m.add_pressure(2, Htot, +1, ((lo, hi), (-1.0, T + 1.0)), pre["pressure"] * nu * L / (hi - lo))
     if phys["gravity"]:
         m.gravity = np.array([0.0, 0.0, -9.81])
     m.build()
