@@ -3,8 +3,10 @@ end; the full study plans 2 x 100 x 5 simulations."""
 import subprocess
 import sys
 
+import numpy as np
 import pandas as pd
 import pytest
+import yaml
 
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
 
@@ -33,6 +35,14 @@ def test_smoke_study_outputs(smoke):
     assert (alls["count"] + alls["excluded"]).tolist() == [3, 3, 3, 3]
     curves = pd.read_parquet(smoke / "study" / "curves.parquet")
     assert set(curves.variant) == {"nonspatial", "spatial"}
+    # each run's curve thinned to study.curve_points (plus its peak), the peak
+    # of its own curve kept
+    per_run = curves.groupby(["variant", "sigma_v_mpa", "sample"]).load_kN
+    assert per_run.size().max() <= yaml.safe_load(open("config/config.yaml"))["study"]["curve_points"] + 1
+    for path in (smoke / "study" / "runs").glob("*/sv*/s*_curve.parquet"):
+        raw = pd.read_parquet(path)
+        key = (raw.variant.iloc[0], raw.sigma_v_mpa.iloc[0], raw["sample"].iloc[0])
+        assert per_run.max()[key] == np.float32(raw.load_kN.max()), path
     # same samples at every level: the inputs of a sample do not depend on sigma_v
     ns = runs[runs.variant == "nonspatial"].pivot(index="sample", columns="sigma_v_mpa", values="f_tj_mpa")
     assert (ns[0.0] == ns[0.5]).all()

@@ -45,6 +45,8 @@ rule collect:
     output:
         runs=R + "/study/runs.parquet",
         curves=R + "/study/curves.parquet",
+    params:
+        curve_points=config["study"]["curve_points"],
     log:
         R + "/logs/study/collect.log",
     script:

@@ -1,4 +1,6 @@
-"""All simulations in one table, and all curves in another."""
+"""All simulations in one table, and all curves in another (each thinned
+to the configured number of points, keeping its peak; values in single
+precision)."""
 import sys
 
 sm = snakemake  # noqa: F821
@@ -6,10 +8,18 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem.runner import atomic_write  # noqa: E402
+from masonrydem.runner import atomic_write, downsample  # noqa: E402
 
 runs = pd.concat([pd.read_parquet(p) for p in sm.input.results], ignore_index=True)
-curves = pd.concat([pd.read_parquet(p) for p in sm.input.curves], ignore_index=True)
+
+
+def thinned(path):
+    c = pd.read_parquet(path)
+    c = c.iloc[downsample(c.displacement_mm.to_numpy(), c.load_kN.to_numpy(), sm.params.curve_points)]
+    return c.astype({k: "float32" for k in ("displacement_mm", "load_kN", "ratio")})
+
+
+curves = pd.concat([thinned(p) for p in sm.input.curves], ignore_index=True)
 atomic_write(sm.output.runs, lambda p: runs.to_parquet(p, index=False))
 atomic_write(sm.output.curves, lambda p: curves.to_parquet(p, index=False))
 print(f"{len(runs)} runs, {int((~runs.ok).sum())} not ok:")
