@@ -105,6 +105,19 @@ def test_rerun_does_nothing(smoke):
     assert r.returncode == 0 and "Nothing to be done" in r.stdout + r.stderr
 
 
+def test_a_setting_sampling_does_not_read_reruns_no_simulation(smoke, tmp_path):
+    """Changing how the curves are collected replans the collection and what
+    follows it, never the sampling or the simulations (a params change of
+    the sample rule would redraw the samples and rerun every simulation)."""
+    extra = tmp_path / "curve_points.yaml"
+    extra.write_text(yaml.safe_dump({"study": {"curve_points": 77}}))
+    r = subprocess.run(SNAKEMAKE + ["-n", "--configfile", "config/smoke.yaml", str(extra),
+                                    "--config", f"results={smoke}"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr[-2000:]
+    planned = {x.split()[0] for x in r.stdout.splitlines() if len(x.split()) == 2 and x.split()[1].isdigit()}
+    assert "collect" in planned and not planned & {"sample", "simulate"}, r.stdout[-2000:]
+
+
 def test_full_study_plans_1000_simulations(tmp_path):
     r = subprocess.run(SNAKEMAKE + ["-n", "--config", f"results={tmp_path}"], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr[-2000:]

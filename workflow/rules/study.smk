@@ -12,7 +12,11 @@ rule sample:
         check=report(R + "/study/sampling_check.csv", caption=caption("sampling_check"), category="Study"),
         caption=caption("sampling_check"),
     params:
-        study=config["study"],
+        # only what sampling reads: a change of any other study setting
+        # (levels, curve points) must not redraw the samples and so rerun
+        # every simulation
+        n_samples=config["study"]["n_samples"],
+        seed=config["study"]["seed"],
     log:
         R + "/logs/study/sample.log",
     script:

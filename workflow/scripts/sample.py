@@ -12,8 +12,7 @@ from masonrydem.figures import write_caption  # noqa: E402
 from masonrydem.runner import atomic_write  # noqa: E402
 from masonrydem.sampling import STUDY_VARIABLES, study_samples  # noqa: E402
 
-study = sm.params.study
-nonspatial, spatial, achieved = study_samples(study["n_samples"], study["seed"])
+nonspatial, spatial, achieved = study_samples(sm.params.n_samples, sm.params.seed)
 atomic_write(sm.output.nonspatial, lambda p: nonspatial.to_parquet(p, index=False))
 atomic_write(sm.output.spatial, lambda p: spatial.to_parquet(p, index=False))
 names = [v.name for v in STUDY_VARIABLES]
