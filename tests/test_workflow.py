@@ -121,6 +121,8 @@ def test_a_setting_sampling_does_not_read_reruns_no_simulation(smoke, tmp_path):
 def test_full_study_plans_1000_simulations(tmp_path):
     r = subprocess.run(SNAKEMAKE + ["-n", "--config", f"results={tmp_path}"], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr[-2000:]
+    # the default profile (job rate limiter) is found beside the Snakefile
+    assert "Using workflow specific profile profiles/default" in r.stdout + r.stderr
     line = [x for x in r.stdout.splitlines() if x.split()[:1] == ["simulate"]]
     assert line and int(line[0].split()[-1]) == 1000
 
