@@ -73,3 +73,10 @@ rule statistics:
         R + "/logs/study/statistics.log",
     script:
         "../scripts/statistics.py"
+
+
+rule study:
+    """snakemake --cores 2 study: the stochastic study alone (samples, the
+    1000 simulations, analysis, figures, pictures)."""
+    input:
+        get_study_outputs(),
