@@ -75,6 +75,41 @@ def test_lasso_recovers_known_coefficients():
     assert "f_tj" in A.equation_text(eq)
 
 
+def test_out_of_fold_prediction_never_sees_its_own_run():
+    """Out-of-fold predictions come from equations fitted without the run:
+    changing one run's strength leaves its own prediction unchanged (and
+    changes the in-sample fit).  On a noise-free linear law both MAPEs are
+    small; on the law plus noise the out-of-fold MAPE is at least the
+    fitted one (the fitted equation has seen its noise)."""
+    rng = np.random.default_rng(1)
+    n = 60
+    f_tu = rng.lognormal(np.log(3.75), 0.25, n)
+    f_tj = rng.lognormal(np.log(0.3), 0.4, n)
+    sv = rng.choice([0.0, 0.25, 0.5], n)
+    y = 0.4 + 2.0 * f_tj + 0.9 * sv + rng.normal(0, 0.05, n)
+    a = A.fit_equation(f_tu, f_tj, sv, y)
+    y2 = y.copy()
+    y2[7] += 5.0
+    b = A.fit_equation(f_tu, f_tj, sv, y2)
+    assert b["cv_predicted"][7] == pytest.approx(a["cv_predicted"][7], rel=1e-12)
+    assert b["fitted"][7] != pytest.approx(a["fitted"][7], rel=1e-3)
+    assert a["cv_mape"] >= a["mape"] and a["cv_mape"] < 10.0
+    exact = A.fit_equation(f_tu, f_tj, sv, 0.4 + 2.0 * f_tj + 0.9 * sv)
+    assert exact["mape"] < 1.0 and exact["cv_mape"] < 1.0
+
+
+def test_prediction_scatter():
+    """Joint equation 2 f_tj, brick equation 10 - 40 sigma_v: at sigma_v = 0
+    the joint one is lower for every sample, so the scatter is 2 SD(f_tj);
+    at 0.5 MPa the brick one (-10, the same for all) is lower: no scatter."""
+    zero = {k: 0.0 for k in A.FEATURES}
+    joint = dict(intercept=0.0, coef={**zero, "f_tj": 2.0})
+    brick = dict(intercept=10.0, coef={**zero, "sigma_v": -40.0})
+    f_tj = np.random.default_rng(2).lognormal(np.log(0.3), 0.4, 100)
+    sd = A.prediction_scatter(joint, brick, np.full(100, 3.75), f_tj, [0.0, 0.5])
+    np.testing.assert_allclose(sd, [2.0 * np.std(f_tj, ddof=1), 0.0], atol=1e-12)
+
+
 def test_lower_of_two():
     joint = dict(intercept=1.0, coef={k: 0.0 for k in A.FEATURES})
     brick = dict(intercept=0.0, coef={**{k: 0.0 for k in A.FEATURES}, "sigma_v": 4.0})

@@ -21,18 +21,18 @@ def smoke(tmp_path_factory):
 
 
 def test_smoke_study_outputs(smoke):
-    """2 variants x 3 samples x 2 levels = 12 rows, one per simulation, with
+    """2 variants x 4 samples x 2 levels = 16 rows, one per simulation, with
     ids, inputs, outputs and status; statistics count every run."""
     runs = pd.read_parquet(smoke / "study" / "runs.parquet")
-    assert len(runs) == 12
+    assert len(runs) == 16
     assert set(runs.variant) == {"nonspatial", "spatial"} and set(runs.sigma_v_mpa) == {0.0, 0.5}
-    assert runs.groupby(["variant", "sigma_v_mpa"]).size().tolist() == [3, 3, 3, 3]
+    assert runs.groupby(["variant", "sigma_v_mpa"]).size().tolist() == [4, 4, 4, 4]
     for col in ("sample", "f_tj_mpa", "f_tu_mpa", "phi_j_deg", "E_b_mpa", "P_max_kN", "strength_mpa",
                 "failure_mode", "status", "ok", "steps", "wall_time_s"):
         assert col in runs.columns
     st = pd.read_csv(smoke / "study" / "statistics.csv")
     alls = st[st["mode"] == "all"]
-    assert (alls["count"] + alls["excluded"]).tolist() == [3, 3, 3, 3]
+    assert (alls["count"] + alls["excluded"]).tolist() == [4, 4, 4, 4]
     curves = pd.read_parquet(smoke / "study" / "curves.parquet")
     assert set(curves.variant) == {"nonspatial", "spatial"}
     # each run's curve thinned to study.curve_points (plus its peak), the peak

@@ -9,7 +9,7 @@ Runs that are not ``ok`` are excluded from every statistic and counted.
 import numpy as np
 import pandas as pd
 from sklearn.linear_model import LassoCV
-from sklearn.model_selection import KFold
+from sklearn.model_selection import KFold, cross_val_predict
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
@@ -91,18 +91,26 @@ def fit_equation(f_tu, f_tj, sigma_v, strength, seed=0):
     chosen by 5-fold cross-validation on the mean squared error
     (scikit-learn LassoCV, features standardised).  Returns a dict with the
     intercept and coefficients in original units, the chosen alpha, the
-    MAPE (%) and the fitted values."""
+    fitted values and their MAPE (%), and the out-of-fold predictions and
+    their MAPE (``cv_mape``): each run predicted by the equation fitted,
+    penalty chosen included, on the other four fifths of the runs (nested
+    cross-validation), which is the error to expect on a wallette the fit
+    has not seen."""
     X = features(f_tu, f_tj, sigma_v)
     y = np.asarray(strength, float)
-    model = make_pipeline(StandardScaler(), LassoCV(cv=KFold(5, shuffle=True, random_state=seed),
-                                                    random_state=seed, max_iter=100_000))
-    model.fit(X, y)
-    scaler, lasso = model[0], model[1]
+
+    def model():
+        return make_pipeline(StandardScaler(), LassoCV(cv=KFold(5, shuffle=True, random_state=seed),
+                                                       random_state=seed, max_iter=100_000))
+
+    fit = model().fit(X, y)
+    scaler, lasso = fit[0], fit[1]
     coef = lasso.coef_ / scaler.scale_
     intercept = float(lasso.intercept_ - np.sum(coef * scaler.mean_))
-    fitted = model.predict(X)
+    fitted = fit.predict(X)
+    oof = cross_val_predict(model(), X, y, cv=KFold(5, shuffle=True, random_state=seed + 1))
     return dict(intercept=intercept, coef=dict(zip(FEATURES, coef.tolist())), alpha=float(lasso.alpha_),
-                mape=mape(y, fitted), fitted=fitted, n=int(y.size))
+                mape=mape(y, fitted), fitted=fitted, cv_mape=mape(y, oof), cv_predicted=oof, n=int(y.size))
 
 
 def predict(eq, f_tu, f_tj, sigma_v):
@@ -126,6 +134,16 @@ def lower_of_two(eq_joint, eq_brick, f_tu, f_tj, sigma_v):
     j = predict(eq_joint, f_tu, f_tj, sigma_v)
     b = predict(eq_brick, f_tu, f_tj, sigma_v)
     return np.minimum(j, b), np.where(j <= b, "joint", "brick")
+
+
+def prediction_scatter(eq_joint, eq_brick, f_tu, f_tj, levels):
+    """Standard deviation, at each precompression of ``levels``, of the
+    lower-of-two prediction over the property samples (f_tu, f_tj): the
+    scatter of the capacity that the scatter of the strengths causes,
+    through the equations."""
+    f_tu, f_tj = np.asarray(f_tu, float), np.asarray(f_tj, float)
+    return np.array([np.std(lower_of_two(eq_joint, eq_brick, f_tu, f_tj, np.full_like(f_tu, sv))[0], ddof=1)
+                     for sv in levels])
 
 
 # --- design rules (study.md, 6) -------------------------------------------------

@@ -107,21 +107,23 @@ def curves_by_mode(runs, curves, levels, path):
 
 
 def predicted_vs_simulated(fits, path):
-    """Predicted against simulated strength, and the prediction error, per
-    failure mode."""
+    """Per failure mode: the equation's strength against the simulated one
+    (left), and the error of the out-of-fold predictions, each run predicted
+    by the equation fitted without it (right)."""
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
     lo, hi = np.inf, -np.inf
     for mode, (eq, y) in fits.items():
-        ax.scatter(y, eq["fitted"], s=10, color=MODES[mode], label=f"{mode} (MAPE {eq['mape']:.1f} %)")
-        ax2.hist(100 * (eq["fitted"] - y) / y, bins=30, alpha=0.6, color=MODES[mode], label=mode)
+        ax.scatter(y, eq["fitted"], s=10, color=MODES[mode],
+                   label=f"{mode}: MAPE {eq['mape']:.1f} % fitted, {eq['cv_mape']:.1f} % out of fold")
+        ax2.hist(100 * (eq["cv_predicted"] - y) / y, bins=30, alpha=0.6, color=MODES[mode], label=mode)
         lo, hi = min(lo, y.min()), max(hi, y.max())
     if np.isfinite(lo):
         ax.plot([lo, hi], [lo, hi], "k--", lw=1)
     ax.set_xlabel("simulated strength (MPa)")
     ax.set_ylabel("predicted strength (MPa)")
-    ax.legend()
+    ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    ax2.set_xlabel("prediction error (%)")
+    ax2.set_xlabel("out-of-fold prediction error (%)")
     ax2.set_ylabel("runs")
     ax2.legend()
     _save(fig, path)
@@ -130,20 +132,21 @@ def predicted_vs_simulated(fits, path):
 def design_comparison(levels, pred, band, lg, as_stepped, as_line, simulated, path):
     """Lower-of-two prediction at mean properties with a +-1 SD band against
     sigma_v, beside the Lourenco-Gaetani and AS3700 rules and the simulated
-    mean strengths."""
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    ax.plot(levels, pred, "k-", lw=2, label="prediction (lower of two)")
-    ax.fill_between(levels, pred - band, pred + band, color="k", alpha=0.15, label="+- 1 SD")
+    strengths (``simulated``: levels, means, standard deviations)."""
+    fig, ax = plt.subplots(figsize=(10, 4.5))
+    ax.plot(levels, pred, "k-", lw=2, label="prediction at mean properties (lower of two)")
+    ax.fill_between(levels, pred - band, pred + band, color="k", alpha=0.15,
+                    label="+- 1 SD of the prediction over the samples")
     ax.plot(levels, np.full_like(levels, lg[0]), "--", color="tab:blue", label="Lourenco-Gaetani stepped")
     ax.plot(levels, np.full_like(levels, lg[1]), "--", color="tab:red", label="Lourenco-Gaetani brick")
     ax.plot(levels, as_stepped, ":", color="tab:blue", lw=2, label="AS3700 stepped")
     ax.plot(levels, as_line, ":", color="tab:red", lw=2, label="AS3700 line")
-    if simulated is not None:
-        ax.plot(simulated[0], simulated[1], "o", color="tab:green", label="simulated mean (non-spatial)")
+    sv, mean, sd = simulated
+    ax.errorbar(sv, mean, yerr=sd, fmt="o", color="tab:green", capsize=3, label="simulated mean +- 1 SD (non-spatial)")
     ax.set_xlabel("sigma_v (MPa)")
     ax.set_ylabel("strength (MPa)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
     _save(fig, path)
 
 
