@@ -8,7 +8,9 @@ from masonrydem import analysis as A
 
 
 def _runs():
-    """Two variants x two levels; P_max known per group; one failed run."""
+    """Two variants x two levels; P_max known per group; two failed runs, one
+    with a bogus finite P_max, one with none (NaN, as a run without a
+    peak)."""
     rows = []
     for variant in ("nonspatial", "spatial"):
         for sv, base in ((0.0, 10.0), (0.5, 15.0)):
@@ -17,23 +19,24 @@ def _runs():
                                  strength_mpa=p / 7.0, failure_mode="brick" if i == 3 else "joint",
                                  ok=True, f_tj_mpa=0.1 * p, f_tu_mpa=4.0 - 0.01 * p, phi_j_deg=35.0 + i,
                                  E_b_mpa=15000.0))
-            rows.append(dict(variant=variant, sigma_v_mpa=sv, sample=9, P_max_kN=1e9, strength_mpa=1e9,
-                             failure_mode="joint", ok=False, f_tj_mpa=0.3, f_tu_mpa=3.75, phi_j_deg=35.0,
-                             E_b_mpa=15000.0))
+            for sample, p in ((8, 1e9), (9, np.nan)):
+                rows.append(dict(variant=variant, sigma_v_mpa=sv, sample=sample, P_max_kN=p, strength_mpa=p,
+                                 failure_mode="joint", ok=False, f_tj_mpa=0.3, f_tu_mpa=3.75, phi_j_deg=35.0,
+                                 E_b_mpa=15000.0))
     return pd.DataFrame(rows)
 
 
 def test_statistics_exclude_failed_runs_and_count_them():
     """Joint runs base-1, base, base+1: mean = base, COV = 1/base; brick run
-    2 base alone; brick share 1/4; the failed run (P = 1e9) is excluded and
-    counted."""
+    2 base alone; brick share 1/4; the failed runs (P = 1e9, P = NaN) are
+    excluded and counted."""
     st = A.statistics(_runs())
     j = st[(st.variant == "nonspatial") & (st.sigma_v_mpa == 0.0) & (st["mode"] == "joint")].iloc[0]
     assert j["count"] == 3 and j.P_max_mean_kN == pytest.approx(10.0)
     assert j.P_max_cov == pytest.approx(1.0 / 10.0)
-    assert j.brick_share == pytest.approx(0.25) and j.excluded == 1
+    assert j.brick_share == pytest.approx(0.25) and j.excluded == 2
     a = st[(st.variant == "spatial") & (st.sigma_v_mpa == 0.5) & (st["mode"] == "all")].iloc[0]
-    assert a.P_max_mean_kN == pytest.approx((14 + 15 + 16 + 30) / 4)
+    assert a.P_max_mean_kN == pytest.approx((14 + 15 + 16 + 30) / 4) and a["count"] == 4
     inc = A.increase(st)
     row = inc[(inc.variant == "nonspatial") & (inc["mode"] == "joint")].iloc[0]
     assert row.increase == pytest.approx(15.0 / 10.0 - 1.0)
@@ -52,50 +55,62 @@ def test_correlations_signs():
     assert np.isnan(j.E_b_mpa)
 
 
+def _study_like(seed, n_samples, noise):
+    """n_samples property sets, each at the study's five levels (as the
+    runs of one failure mode): strength = 0.4 + 2.0 f_tj + 0.05 f_tu^2 +
+    0.9 sigma_v + noise."""
+    rng = np.random.default_rng(seed)
+    levels = np.array([0.0, 0.075, 0.15, 0.25, 0.5])
+    f_tu = np.repeat(rng.lognormal(np.log(3.75), 0.25, n_samples), levels.size)
+    f_tj = np.repeat(rng.lognormal(np.log(0.3), 0.4, n_samples), levels.size)
+    sv = np.tile(levels, n_samples)
+    sample = np.repeat(np.arange(n_samples), levels.size)
+    law = 0.4 + 2.0 * f_tj + 0.05 * f_tu ** 2 + 0.9 * sv
+    return f_tu, f_tj, sv, law + rng.normal(0, noise, law.size), sample, law
+
+
 def test_lasso_recovers_known_coefficients():
-    """Synthetic strengths sigma = 0.4 + 2.0 f_tj + 0.05 f_tu^2 + 0.9 sigma_v
-    + noise (sd 0.01 MPa) on 500 points: 5-fold CV picks a small penalty and
-    the equation recovers the coefficients (within 0.05), leaves out the
-    irrelevant features (|coef| < 0.02 in f_tu and f_tj^2 units), and the
-    MAPE is about the noise level (< 1 %)."""
-    rng = np.random.default_rng(0)
-    n = 500
-    f_tu = rng.lognormal(np.log(3.75), 0.25, n)
-    f_tj = rng.lognormal(np.log(0.3), 0.4, n)
-    sv = rng.choice([0.0, 0.075, 0.15, 0.25, 0.5], n)
-    y = 0.4 + 2.0 * f_tj + 0.05 * f_tu ** 2 + 0.9 * sv + rng.normal(0, 0.01, n)
-    eq = A.fit_equation(f_tu, f_tj, sv, y)
+    """Synthetic strengths (law above, noise sd 0.01 MPa) of 100 samples x
+    5 levels: 5-fold CV picks a small penalty and the equation recovers the
+    coefficients (within 0.05), leaves out the irrelevant features
+    (|coef| < 0.05 in f_tu, < 0.2 in f_tj^2), and the MAPE is about the
+    noise level (< 1 %) both fitted and out of fold."""
+    f_tu, f_tj, sv, y, sample, _ = _study_like(0, 100, 0.01)
+    eq = A.fit_equation(f_tu, f_tj, sv, y, sample)
     assert eq["coef"]["f_tj"] == pytest.approx(2.0, abs=0.05)
     assert eq["coef"]["f_tu^2"] == pytest.approx(0.05, abs=0.01)
     assert eq["coef"]["sigma_v"] == pytest.approx(0.9, abs=0.05)
     assert abs(eq["coef"]["f_tu"]) < 0.05 and abs(eq["coef"]["f_tj^2"]) < 0.2
     assert eq["intercept"] == pytest.approx(0.4, abs=0.1)
-    assert eq["mape"] < 1.0
+    assert eq["mape"] < 1.0 and eq["cv_mape"] < 1.0
     np.testing.assert_allclose(A.predict(eq, f_tu, f_tj, sv), eq["fitted"], rtol=1e-10)
     assert "f_tj" in A.equation_text(eq)
 
 
-def test_out_of_fold_prediction_never_sees_its_own_run():
-    """Out-of-fold predictions come from equations fitted without the run:
-    changing one run's strength leaves its own prediction unchanged (and
-    changes the in-sample fit).  On a noise-free linear law both MAPEs are
-    small; on the law plus noise the out-of-fold MAPE is at least the
-    fitted one (the fitted equation has seen its noise)."""
-    rng = np.random.default_rng(1)
-    n = 60
-    f_tu = rng.lognormal(np.log(3.75), 0.25, n)
-    f_tj = rng.lognormal(np.log(0.3), 0.4, n)
-    sv = rng.choice([0.0, 0.25, 0.5], n)
-    y = 0.4 + 2.0 * f_tj + 0.9 * sv + rng.normal(0, 0.05, n)
-    a = A.fit_equation(f_tu, f_tj, sv, y)
-    y2 = y.copy()
-    y2[7] += 5.0
-    b = A.fit_equation(f_tu, f_tj, sv, y2)
-    assert b["cv_predicted"][7] == pytest.approx(a["cv_predicted"][7], rel=1e-12)
-    assert b["fitted"][7] != pytest.approx(a["fitted"][7], rel=1e-3)
-    assert a["cv_mape"] >= a["mape"] and a["cv_mape"] < 10.0
-    exact = A.fit_equation(f_tu, f_tj, sv, 0.4 + 2.0 * f_tj + 0.9 * sv)
+def test_out_of_fold_prediction_never_sees_its_own_sample():
+    """Out-of-fold predictions come from equations fitted without the
+    sample (all its precompression levels): changing every strength of
+    sample 3 leaves its own predictions unchanged, and changes the fitted
+    equation's.  Noise-free, both MAPEs are small."""
+    f_tu, f_tj, sv, y, sample, law = _study_like(1, 12, 0.05)
+    a = A.fit_equation(f_tu, f_tj, sv, y, sample)
+    y2 = np.where(sample == 3, y + 5.0, y)
+    b = A.fit_equation(f_tu, f_tj, sv, y2, sample)
+    mine = sample == 3
+    np.testing.assert_allclose(b["cv_predicted"][mine], a["cv_predicted"][mine], rtol=1e-12)
+    assert np.all(np.abs(b["fitted"][mine] - a["fitted"][mine]) > 1e-3)
+    exact = A.fit_equation(f_tu, f_tj, sv, law, sample)
     assert exact["mape"] < 1.0 and exact["cv_mape"] < 1.0
+
+
+def test_too_few_samples_for_nested_cv():
+    """Nested 5-fold CV needs 7 samples (each inner fit 5 of the outer 4/5):
+    6 are refused with the reason, 7 fit."""
+    f_tu, f_tj, sv, y, sample, _ = _study_like(2, 7, 0.01)
+    A.fit_equation(f_tu, f_tj, sv, y, sample)
+    six = sample < 6
+    with pytest.raises(ValueError, match="at least 7"):
+        A.fit_equation(f_tu[six], f_tj[six], sv[six], y[six], sample[six])
 
 
 def test_prediction_scatter():

@@ -9,11 +9,16 @@ Runs that are not ``ok`` are excluded from every statistic and counted.
 import numpy as np
 import pandas as pd
 from sklearn.linear_model import LassoCV
-from sklearn.model_selection import KFold, cross_val_predict
+from sklearn.model_selection import GroupKFold
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
+from .sampling import STUDY_VARIABLES
+
 INPUTS = ("f_tj_mpa", "f_tu_mpa", "phi_j_deg", "E_b_mpa")
+# the means of their distributions (study.md, 5) in the units of the runs table
+_COLUMN = {"f_tj": ("f_tj_mpa", 1e-6), "f_tu": ("f_tu_mpa", 1e-6), "phi_j": ("phi_j_deg", 1.0), "E_b": ("E_b_mpa", 1e-6)}
+INPUT_MEANS = {_COLUMN[v.name][0]: v.mean * _COLUMN[v.name][1] for v in STUDY_VARIABLES}
 FEATURES = ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v")
 
 
@@ -73,10 +78,9 @@ def correlations(runs, inputs=INPUTS):
     return pd.DataFrame(rows)
 
 
-def normalised_deviation(x):
+def normalised_deviation(x, mean):
     """(x - mean) / mean."""
-    x = np.asarray(x, float)
-    return (x - x.mean()) / x.mean()
+    return (np.asarray(x, float) - mean) / mean
 
 
 # --- prediction equations -------------------------------------------------------
@@ -86,30 +90,44 @@ def features(f_tu, f_tj, sigma_v):
     return np.column_stack([f_tu, f_tj, f_tu ** 2, f_tj ** 2, sigma_v])
 
 
-def fit_equation(f_tu, f_tj, sigma_v, strength, seed=0):
+MIN_GROUPS = 7   # nested 5-fold CV: each inner fit needs 5 groups of the outer 4/5
+
+
+def _lasso(X, y, groups):
+    """Standardised features, Lasso with the penalty chosen by 5-fold
+    cross-validation on the MSE, folds made of whole groups."""
+    cv = list(GroupKFold(5).split(X, y, groups))
+    return make_pipeline(StandardScaler(), LassoCV(cv=cv, max_iter=100_000)).fit(X, y)
+
+
+def fit_equation(f_tu, f_tj, sigma_v, strength, groups):
     """Lasso regression of the strength (MPa) on the features, the penalty
     chosen by 5-fold cross-validation on the mean squared error
-    (scikit-learn LassoCV, features standardised).  Returns a dict with the
-    intercept and coefficients in original units, the chosen alpha, the
-    fitted values and their MAPE (%), and the out-of-fold predictions and
-    their MAPE (``cv_mape``): each run predicted by the equation fitted,
-    penalty chosen included, on the other four fifths of the runs (nested
-    cross-validation), which is the error to expect on a wallette the fit
-    has not seen."""
+    (scikit-learn LassoCV, features standardised).  ``groups``: the sample
+    of each run; folds hold whole samples, because one sample's runs at
+    the other precompression levels share its properties and would let a
+    fold see the wallette it is tested on.  At least MIN_GROUPS samples.
+
+    Returns a dict with the intercept and coefficients in original units,
+    the chosen alpha, the fitted values and their MAPE (%), and the
+    out-of-fold predictions and their MAPE (``cv_mape``): each run
+    predicted by the equation fitted, penalty chosen included, on the
+    other four fifths of the samples (nested cross-validation), which is
+    the error to expect on a wallette the fit has not seen."""
     X = features(f_tu, f_tj, sigma_v)
     y = np.asarray(strength, float)
-
-    def model():
-        return make_pipeline(StandardScaler(), LassoCV(cv=KFold(5, shuffle=True, random_state=seed),
-                                                       random_state=seed, max_iter=100_000))
-
-    fit = model().fit(X, y)
+    groups = np.asarray(groups)
+    if np.unique(groups).size < MIN_GROUPS:
+        raise ValueError(f"{np.unique(groups).size} samples: nested 5-fold CV needs at least {MIN_GROUPS}")
+    fit = _lasso(X, y, groups)
     scaler, lasso = fit[0], fit[1]
     coef = lasso.coef_ / scaler.scale_
     intercept = float(lasso.intercept_ - np.sum(coef * scaler.mean_))
     fitted = fit.predict(X)
-    oof = cross_val_predict(model(), X, y, cv=KFold(5, shuffle=True, random_state=seed + 1))
-    return dict(intercept=intercept, coef=dict(zip(FEATURES, coef.tolist())), alpha=float(lasso.alpha_),
+    oof = np.empty_like(y)
+    for train, test in GroupKFold(5).split(X, y, groups):
+        oof[test] = _lasso(X[train], y[train], groups[train]).predict(X[test])
+    return dict(intercept=intercept, coef=dict(zip(FEATURES, (coef + 0.0).tolist())), alpha=float(lasso.alpha_),
                 mape=mape(y, fitted), fitted=fitted, cv_mape=mape(y, oof), cv_predicted=oof, n=int(y.size))
 
 

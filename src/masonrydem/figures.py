@@ -63,12 +63,13 @@ def correlation_vs_sigma(corr, path):
 
 
 def scatter_deviation(runs, sigma_v, path):
-    """P_max against each input's normalised deviation from its mean at one
-    precompression, coloured by failure mode (non-spatial variant)."""
+    """P_max against each input's normalised deviation from its mean (the
+    mean of its distribution) at one precompression, coloured by failure
+    mode (non-spatial variant)."""
     g = runs[runs.ok & (runs.variant == "nonspatial") & np.isclose(runs.sigma_v_mpa, sigma_v)]
     fig, axes = plt.subplots(1, len(A.INPUTS), figsize=(4 * len(A.INPUTS), 3.6), sharey=True)
     for ax, name in zip(axes, A.INPUTS):
-        dev = A.normalised_deviation(g[name]) if len(g) else np.array([])
+        dev = A.normalised_deviation(g[name], A.INPUT_MEANS[name])
         for mode, color in MODES.items():
             sel = (g.failure_mode == mode).to_numpy()
             ax.scatter(dev[sel], g.P_max_kN[sel], s=12, color=color, label=mode)
@@ -82,18 +83,19 @@ def scatter_deviation(runs, sigma_v, path):
 
 def curves_by_mode(runs, curves, levels, path):
     """Load-displacement curves grouped by failure mode, per variant and
-    precompression level."""
+    precompression level (runs that are ok only)."""
     variants = sorted(runs.variant.unique())
     fig, axes = plt.subplots(len(variants), len(levels), figsize=(5.5 * len(levels), 3.8 * len(variants)),
                              squeeze=False, sharex=True, sharey=True)
-    mode = runs.set_index(["variant", "sigma_v_mpa", "sample"]).failure_mode
+    mode = runs[runs.ok].set_index(["variant", "sigma_v_mpa", "sample"]).failure_mode
     for i, variant in enumerate(variants):
         for j, sv in enumerate(levels):
             ax = axes[i][j]
             c = curves[(curves.variant == variant) & np.isclose(curves.sigma_v_mpa, sv)]
             for sample, h in c.groupby("sample"):
-                m = mode.get((variant, sv, sample), "joint")
-                ax.plot(h.displacement_mm, h.load_kN, color=MODES.get(m, "k"), lw=0.6, alpha=0.5)
+                if (variant, sv, sample) in mode.index:     # runs that are not ok are left out
+                    ax.plot(h.displacement_mm, h.load_kN, color=MODES[mode[(variant, sv, sample)]], lw=0.6,
+                            alpha=0.5)
             ax.set_title(f"{variant}, sigma_v = {sv:g} MPa")
             ax.grid(alpha=0.3)
     for ax in axes[-1]:

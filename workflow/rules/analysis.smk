@@ -29,6 +29,7 @@ rule regression:
     """Lasso prediction equations per mode and the design-rule comparison."""
     input:
         runs=R + "/study/runs.parquet",
+        scene=config["scene"],
         templates=[template(n) for n in REGRESSION_CAPTIONS],
     output:
         equations=report(R + "/study/equations.csv", caption=caption("equations"), category="Prediction"),
@@ -36,10 +37,9 @@ rule regression:
                          category="Prediction"),
         design=report(R + "/study/design_comparison.png", caption=caption("design_comparison"),
                       category="Prediction"),
-        design_table=R + "/study/design_comparison.csv",
+        design_table=report(R + "/study/design_comparison.csv", caption=caption("design_comparison"),
+                            category="Prediction"),
         captions=[caption(n) for n in REGRESSION_CAPTIONS],
-    params:
-        seed=config["study"]["seed"],
     log:
         R + "/logs/study/regression.log",
     script:

@@ -27,7 +27,9 @@ rm = []
 for (variant, sv), g in good.groupby(["variant", "sigma_v_mpa"]):
     m = A.running_mean(g.sort_values("sample").P_max_kN)
     tail = m[int(0.8 * len(m)) - 1:]
-    rm.append(f"{variant} {sv:g} MPa {100 * (tail.max() - tail.min()) / m[-1]:.1f} %")
+    se = g.P_max_kN.std(ddof=1) / len(g) ** 0.5 / m[-1]      # standard error of the mean, relative
+    rm.append(f"{variant} {sv:g} MPa {100 * (tail.max() - tail.min()) / m[-1]:.1f} % "
+              f"(standard error of the mean {100 * se:.1f} %)")
 allm = stats[stats["mode"] == "all"]
 share = [f"{v}: " + ", ".join(f"{r.sigma_v_mpa:g} MPa {100 * r.brick_share:.0f} %" for r in g.itertuples())
          for v, g in allm.groupby("variant")]
