@@ -151,3 +151,26 @@ def test_full_study_plans_on_slurm(tmp_path):
     assert r.returncode == 0, r.stderr[-2000:]
     line = [x for x in r.stdout.splitlines() if x.split()[:1] == ["simulate"]]
     assert line and int(line[0].split()[-1]) == 1000
+
+
+def test_a_simulation_that_raises_is_recorded(tmp_path):
+    """Nothing lost: a sample the scene refuses (f_tj < 0 makes G_I < 0)
+    still gives its job's row, with status 'error', ok False and the
+    refusal naming the field, the sample's inputs, and an empty curve (the
+    statistics exclude and count such rows: tests/test_analysis.py)."""
+    from masonrydem.sampling import study_samples
+    smoke = yaml.safe_load(open("config/smoke.yaml"))["study"]
+    root = tmp_path / "results"
+    (root / "study").mkdir(parents=True)
+    nonspatial, _, _ = study_samples(smoke["n_samples"], smoke["seed"])
+    nonspatial.loc[nonspatial["sample"] == 0, "f_tj"] = -1e5
+    nonspatial.to_parquet(root / "study" / "samples_nonspatial.parquet", index=False)
+    target = root / "study" / "runs" / "nonspatial" / "sv0.0" / "s0.parquet"
+    r = subprocess.run(SNAKEMAKE + [str(target), "--cores", "1", "--allowed-rules", "simulate", "--configfile",
+                                    "config/smoke.yaml", "--config", f"results={root}"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    row = pd.read_parquet(target).iloc[0]
+    assert row.status == "error" and not row.ok and "materials.joints.GI" in row.message
+    s0 = nonspatial.iloc[0]
+    assert (row.f_tj_mpa, row.f_tu_mpa, row.E_b_mpa, row.phi_j_deg) == (-0.1, s0.f_tu / 1e6, s0.E_b / 1e6, s0.phi_j)
+    assert len(pd.read_parquet(target.with_name("s0_curve.parquet"))) == 0

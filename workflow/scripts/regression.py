@@ -54,7 +54,7 @@ levels = np.linspace(0.0, max(runs.sigma_v_mpa.max(), 0.5), 51)
 pred = band = prop_sd = np.full_like(levels, np.nan)
 if fits:
     pred, _ = A.lower_of_two(joint, brick, np.full_like(levels, f_tu), np.full_like(levels, f_tj), levels)
-    props = runs[runs.variant == "nonspatial"].drop_duplicates("sample")
+    props = ns.drop_duplicates("sample")            # the properties of every sample with an ok run
     prop_sd = A.prediction_scatter(joint, brick, props.f_tu_mpa, props.f_tj_mpa, levels)
     band = np.sqrt(prop_sd ** 2 + resid_sd ** 2)
 # model quantities for the rules, from the scene: c_j = c_ratio f_tj; the
