@@ -113,16 +113,21 @@ def test_too_few_samples_for_nested_cv():
         A.fit_equation(f_tu[six], f_tj[six], sv[six], y[six], sample[six])
 
 
-def test_prediction_scatter():
+def test_prediction_over_samples():
     """Joint equation 2 f_tj, brick equation 10 - 40 sigma_v: at sigma_v = 0
-    the joint one is lower for every sample, so the scatter is 2 SD(f_tj);
-    at 0.5 MPa the brick one (-10, the same for all) is lower: no scatter."""
+    the joint one is lower for every sample, so the mean is 2 mean(f_tj) and
+    the scatter 2 SD(f_tj); at 0.5 MPa the brick one (-10, the same for all)
+    is lower: mean -10, no scatter.  At 0.2 MPa the brick equation gives 2
+    and the mean is E[min(2 f_tj, 2)], below min(2 mean(f_tj), 2) (Jensen)."""
     zero = {k: 0.0 for k in A.FEATURES}
     joint = dict(intercept=0.0, coef={**zero, "f_tj": 2.0})
     brick = dict(intercept=10.0, coef={**zero, "sigma_v": -40.0})
-    f_tj = np.random.default_rng(2).lognormal(np.log(0.3), 0.4, 100)
-    sd = A.prediction_scatter(joint, brick, np.full(100, 3.75), f_tj, [0.0, 0.5])
-    np.testing.assert_allclose(sd, [2.0 * np.std(f_tj, ddof=1), 0.0], atol=1e-12)
+    f_tj = np.random.default_rng(2).lognormal(np.log(0.3), 0.4, 100) * 3
+    mean, sd = A.prediction_over_samples(joint, brick, np.full(100, 3.75), f_tj, [0.0, 0.5, 0.2])
+    np.testing.assert_allclose(mean[:2], [2.0 * np.mean(f_tj), -10.0], rtol=1e-14)
+    np.testing.assert_allclose(sd[:2], [2.0 * np.std(f_tj, ddof=1), 0.0], atol=1e-12)
+    np.testing.assert_allclose(mean[2], np.mean(np.minimum(2.0 * f_tj, 2.0)), rtol=1e-14)
+    assert mean[2] < min(2.0 * np.mean(f_tj), 2.0)
 
 
 def test_lower_of_two():
@@ -142,3 +147,32 @@ def test_design_rules():
     r = np.sqrt(0.3)
     np.testing.assert_allclose(stepped, [2 * r, 2 * r * 1.5, 4 * r])
     np.testing.assert_allclose(line, 0.44 * 3.75 + 0.56 * 0.3)
+
+
+def test_one_solver_version():
+    """A table of one solver version passes (rows of runs that raised carry
+    none); one run from other sources is refused by name."""
+    runs = pd.DataFrame(dict(variant=["spatial"] * 4, sigma_v_mpa=[0.15] * 4, sample=[0, 1, 2, 3],
+                             solver_version=["0.1.0+aaa", "0.1.0+aaa", None, "0.1.0+aaa"]))
+    assert A.check_one_solver(runs) == "0.1.0+aaa"
+    runs.loc[1, "solver_version"] = "0.1.0+bbb"
+    with pytest.raises(ValueError, match=r"spatial/sv0.15/s1 \(0.1.0\+bbb\)"):
+        A.check_one_solver(runs)
+
+
+def test_correlation_band_holds_95_percent_of_independent_correlations():
+    """4000 correlations of 100 independent normal pairs: the share outside
+    +-correlation_band(100) is 5 % (binomial SD 0.34 %; allowed 4-6 %)."""
+    rng = np.random.default_rng(7)
+    x, y = rng.standard_normal((2, 4000, 100))
+    x, y = x - x.mean(1, keepdims=True), y - y.mean(1, keepdims=True)
+    r = (x * y).sum(1) / np.sqrt((x * x).sum(1) * (y * y).sum(1))
+    assert 0.04 < np.mean(np.abs(r) > A.correlation_band(100)) < 0.06
+
+
+def test_input_spread():
+    runs = pd.DataFrame(dict(variant=["a"] * 4 + ["b"] * 2, sample=[0, 1, 0, 1, 0, 1], f_tj_mpa=[0.2, 0.4, 0.2, 0.4, 1, 1],
+                             f_tu_mpa=3.0, phi_j_deg=35.0, E_b_mpa=15e3))
+    cov = A.input_spread(runs, "a")
+    np.testing.assert_allclose(cov["f_tj_mpa"], np.std([0.2, 0.4], ddof=1) / 0.3)
+    assert cov["f_tu_mpa"] == 0.0 and A.input_spread(runs, "b")["f_tj_mpa"] == 0.0 and A.input_spread(runs, "c") == {}

@@ -22,6 +22,25 @@ INPUT_MEANS = {_COLUMN[v.name][0]: v.mean * _COLUMN[v.name][1] for v in STUDY_VA
 FEATURES = ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v")
 
 
+def check_one_solver(runs):
+    """Refuse a runs table whose simulations come from different solver
+    sources (column solver_version, 'version+source hash'; rows without one,
+    runs that raised before the solver started, do not count).  Snakemake
+    reruns a simulation when the solver's hash changes, but files marked up
+    to date by hand (``--touch``) escape that; statistics over a mixture
+    would compare two models.  Returns the version."""
+    v = runs["solver_version"].dropna() if "solver_version" in runs else pd.Series(dtype=object)
+    counts = v.value_counts()
+    if len(counts) > 1:
+        odd = runs[runs["solver_version"].isin(counts.index[1:])]
+        names = ", ".join(f"{r.variant}/sv{r.sigma_v_mpa:g}/s{r.sample} ({r.solver_version})"
+                          for r in odd.head(10).itertuples())
+        raise ValueError(f"runs from {len(counts)} solver versions: {len(odd)} differ from {counts.index[0]} "
+                         f"({counts.iloc[0]} runs): {names}{' ...' if len(odd) > 10 else ''}; rerun them "
+                         f"(snakemake --forcerun <their result files>)")
+    return counts.index[0] if len(counts) else None
+
+
 def _cov(x):
     x = np.asarray(x, float)
     return float(x.std(ddof=1) / x.mean()) if x.size > 1 else np.nan
@@ -76,6 +95,22 @@ def correlations(runs, inputs=INPUTS):
                 row[name] = float(np.corrcoef(sel[name], sel.P_max_kN)[0, 1]) if ok else np.nan
             rows.append(row)
     return pd.DataFrame(rows)
+
+
+def correlation_band(n, z=1.96):
+    """Half-width of the band around zero within which the Pearson
+    correlation of n independent pairs falls with 95 % probability (z =
+    1.96): z / sqrt(n - 1), the large-n standard deviation of r under
+    independence."""
+    return z / np.sqrt(n - 1.0)
+
+
+def input_spread(runs, variant, inputs=INPUTS):
+    """COV of each random input across a variant's samples (a sample's
+    inputs are the same at every precompression level; for the spatial
+    variant they are field means).  Empty dict if the variant has no run."""
+    g = runs[runs.variant == variant].drop_duplicates("sample")
+    return {n: _cov(g[n]) for n in inputs} if len(g) else {}
 
 
 def normalised_deviation(x, mean):
@@ -154,14 +189,17 @@ def lower_of_two(eq_joint, eq_brick, f_tu, f_tj, sigma_v):
     return np.minimum(j, b), np.where(j <= b, "joint", "brick")
 
 
-def prediction_scatter(eq_joint, eq_brick, f_tu, f_tj, levels):
-    """Standard deviation, at each precompression of ``levels``, of the
-    lower-of-two prediction over the property samples (f_tu, f_tj): the
-    scatter of the capacity that the scatter of the strengths causes,
-    through the equations."""
+def prediction_over_samples(eq_joint, eq_brick, f_tu, f_tj, levels):
+    """Mean and standard deviation, at each precompression of ``levels``,
+    of the lower-of-two prediction over the property samples (f_tu, f_tj).
+    The standard deviation is the scatter of the capacity that the scatter
+    of the strengths causes, through the equations.  The mean is the mean
+    capacity; it lies at or below the prediction at the mean properties,
+    because the lower of two linear functions is concave (Jensen's
+    inequality), most where the two equations cross."""
     f_tu, f_tj = np.asarray(f_tu, float), np.asarray(f_tj, float)
-    return np.array([np.std(lower_of_two(eq_joint, eq_brick, f_tu, f_tj, np.full_like(f_tu, sv))[0], ddof=1)
-                     for sv in levels])
+    low = np.array([lower_of_two(eq_joint, eq_brick, f_tu, f_tj, np.full_like(f_tu, sv))[0] for sv in levels])
+    return low.mean(axis=1), low.std(axis=1, ddof=1)
 
 
 # --- design rules (study.md, 6) -------------------------------------------------

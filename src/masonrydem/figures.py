@@ -28,7 +28,7 @@ def running_mean(runs, path):
         ax.set_xlabel("number of simulations")
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("running mean of P_max (kN)")
-    axes[-1].legend(title="sigma_v")
+    axes[-1].legend(title="sigma_v", fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
     _save(fig, path)
 
 
@@ -131,14 +131,16 @@ def predicted_vs_simulated(fits, path):
     _save(fig, path)
 
 
-def design_comparison(levels, pred, band, lg, as_stepped, as_line, simulated, path):
+def design_comparison(levels, pred, band, mean_pred, lg, as_stepped, as_line, simulated, path):
     """Lower-of-two prediction at mean properties with a +-1 SD band against
-    sigma_v, beside the Lourenco-Gaetani and AS3700 rules and the simulated
-    strengths (``simulated``: levels, means, standard deviations)."""
+    sigma_v, its mean over the sampled properties (``mean_pred``), beside
+    the Lourenco-Gaetani and AS3700 rules and the simulated strengths
+    (``simulated``: levels, means, standard deviations)."""
     fig, ax = plt.subplots(figsize=(10, 4.5))
     ax.plot(levels, pred, "k-", lw=2, label="prediction at mean properties (lower of two)")
     ax.fill_between(levels, pred - band, pred + band, color="k", alpha=0.15,
                     label="+- 1 SD of the prediction over the samples")
+    ax.plot(levels, mean_pred, "k--", lw=1.2, label="mean of the prediction over the samples")
     ax.plot(levels, np.full_like(levels, lg[0]), "--", color="tab:blue", label="Lourenco-Gaetani stepped")
     ax.plot(levels, np.full_like(levels, lg[1]), "--", color="tab:red", label="Lourenco-Gaetani brick")
     ax.plot(levels, as_stepped, ":", color="tab:blue", lw=2, label="AS3700 stepped")

@@ -8,9 +8,11 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
+from masonrydem.analysis import check_one_solver  # noqa: E402
 from masonrydem.runner import atomic_write, downsample  # noqa: E402
 
 runs = pd.concat([pd.read_parquet(p) for p in sm.input.results], ignore_index=True)
+print("solver", check_one_solver(runs))
 
 
 def thinned(path):

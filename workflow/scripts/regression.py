@@ -51,11 +51,11 @@ F.predicted_vs_simulated(fits, sm.output.predicted)
 mean = {v.name: v.mean for v in STUDY_VARIABLES}
 f_tu, f_tj = mean["f_tu"] / 1e6, mean["f_tj"] / 1e6
 levels = np.linspace(0.0, max(runs.sigma_v_mpa.max(), 0.5), 51)
-pred = band = prop_sd = np.full_like(levels, np.nan)
+pred = band = prop_sd = prop_mean = np.full_like(levels, np.nan)
 if fits:
     pred, _ = A.lower_of_two(joint, brick, np.full_like(levels, f_tu), np.full_like(levels, f_tj), levels)
     props = ns.drop_duplicates("sample")            # the properties of every sample with an ok run
-    prop_sd = A.prediction_scatter(joint, brick, props.f_tu_mpa, props.f_tj_mpa, levels)
+    prop_mean, prop_sd = A.prediction_over_samples(joint, brick, props.f_tu_mpa, props.f_tj_mpa, levels)
     band = np.sqrt(prop_sd ** 2 + resid_sd ** 2)
 # model quantities for the rules, from the scene: c_j = c_ratio f_tj; the
 # overlap l_o = bond offset x modelled unit length, h_b = modelled unit
@@ -68,9 +68,10 @@ h_b = geo["unit"]["height"] + geo["joint_thickness"]
 lg = A.lourenco_gaetani(joints["c_ratio"] * f_tj, f_tu, l_o, h_b)
 as_stepped, as_line = A.as3700(f_tj, f_tu, levels)
 sim = ns.groupby("sigma_v_mpa").strength_mpa.agg(["mean", "std"])
-F.design_comparison(levels, pred, band, lg, as_stepped, as_line,
+F.design_comparison(levels, pred, band, prop_mean, lg, as_stepped, as_line,
                     (sim.index.to_numpy(), sim["mean"].to_numpy(), sim["std"].to_numpy()), sm.output.design)
-pd.DataFrame(dict(sigma_v_mpa=levels, prediction=pred, band_sd=band, property_sd=prop_sd, lg_stepped=lg[0],
+pd.DataFrame(dict(sigma_v_mpa=levels, prediction=pred, band_sd=band, property_sd=prop_sd,
+                  mean_over_samples=prop_mean, lg_stepped=lg[0],
                   lg_brick=lg[1], as3700_stepped=as_stepped, as3700_line=as_line)).to_csv(
     sm.output.design_table, index=False, float_format="%.5g")
 print(pd.DataFrame(rows).to_string())
@@ -90,7 +91,8 @@ design_lines = []
 for sv in sim.index:
     at = lambda y: float(np.interp(sv, levels, y))  # noqa: E731
     design_lines.append(f"- {sv:g} MPa: simulated **{sim.loc[sv, 'mean']:.3f} +- {sim.loc[sv, 'std']:.3f} MPa**, "
-                        f"predicted **{at(pred):.3f} +- {at(band):.3f} MPa**; Lourenco-Gaetani stepped {lg[0]:.3f} / "
+                        f"predicted **{at(pred):.3f} +- {at(band):.3f} MPa** at the mean properties, "
+                        f"**{at(prop_mean):.3f} MPa** on average over the samples; Lourenco-Gaetani stepped {lg[0]:.3f} / "
                         f"brick {lg[1]:.3f} MPa; AS3700 stepped {at(as_stepped):.3f} / line {at(as_line):.3f} MPa")
 F.write_captions(sm.input.templates, sm.output.captions, dict(
     equations=dict(lines="\n".join(eq_lines)),
