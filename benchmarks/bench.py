@@ -23,10 +23,14 @@ import time
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
+from numba import njit  # noqa: E402
 
 from masonrydem import Solver  # noqa: E402
 from masonrydem import kernels as K  # noqa: E402
-from masonrydem.scene import build, load_scene  # noqa: E402
+from masonrydem.kernels.joints import contact_forces  # noqa: E402
+from masonrydem.kernels.zones import zone_forces  # noqa: E402
+from masonrydem.scene import load_scene  # noqa: E402
+from masonrydem.specimen import build  # noqa: E402
 
 SCENE = "config/scenes/willis.yaml"
 
@@ -35,7 +39,8 @@ import time, sys
 t0 = time.perf_counter()
 import masonrydem
 from masonrydem import Solver
-from masonrydem.scene import build, load_scene
+from masonrydem.scene import load_scene
+from masonrydem.specimen import build
 t1 = time.perf_counter()
 sp = build(load_scene("config/scenes/willis.yaml", ["geometry.courses=2", "numerics.cells=[1, 1, 1]"]))
 s = Solver(sp.model)
@@ -54,6 +59,24 @@ def fresh_process_times(repeat=3):
     return np.median(np.array(out), axis=0)
 
 
+def _kernels(zlaw, jlaw):
+    """The zone and joint kernels of these laws, as the step kernel
+    compiles them (the law ids are constants of the wrappers), each run
+    ``n`` times per call: a call from Python costs tens of microseconds
+    (its containers are typed and unboxed), which the loop amortises."""
+    @njit(error_model="numpy")
+    def zones(n, dt, nodes, z, scratch):
+        for _ in range(n):
+            zone_forces(zlaw, dt, nodes, z, scratch)
+
+    @njit(error_model="numpy")
+    def joints(n, dt, nodes, bodies, sc):
+        for _ in range(n):
+            contact_forces(jlaw, 0, 0, dt, nodes, bodies, sc)
+
+    return zones, joints
+
+
 def best_of(fn, n, repeat=5):
     best = np.inf
     for _ in range(repeat):
@@ -70,32 +93,21 @@ def kernel_times(overrides, steps=6000):
     stretch of whole steps."""
     sp = build(load_scene(SCENE, overrides))
     s = Solver(sp.model, chunk=500)
-    for st in sp.loads:
-        s.set_strip_velocity(st, [0.0, 5e-8, 0.0])
+    s.vpres[sp.drive] = [0.0, 5e-8, 0.0]
     s.run(steps, ramp_steps=2000)
-    b = s.b
-    v = s.v.copy()
-    f = np.zeros_like(s.f)
-    stress, zs, js = s.stress.copy(), s.zs.copy(), s.js.copy()
-    de, ev_, pending, a, evec = s._scratch
-    j = b["joints"]
+    nodes = s.nodes._replace(v=s.v.copy(), f=np.zeros_like(s.f))
+    zs = s.zones._replace(state=s.zs.copy(), stress=s.stress.copy())
+    js = s.joints._replace(state=s.js.copy())
+    zone_kernel, joint_kernel = _kernels(s.assembly.zlaw, s.assembly.jlaw)
 
-    def zones():
-        K.zone_forces(b["zlaw"], 1e-3, v, f, b["x0"], b["tets"], b["dn"], b["vol"], b["wt"], b["gptr"],
-                      b["gnodes"], b["gnptr"], b["zp"], zs, stress, de, ev_, pending, a, evec)
-
-    def joints():
-        K.contact_forces(b["jlaw"], 1e-3, v, f, j["nodes"], j["cnt"], j["w"], j["axes"], j["area"],
-                         j["par"], js)
-
-    zones()
-    joints()
-    t_zone = best_of(zones, 200)
-    t_joint = best_of(joints, 2000)
+    zone_kernel(1, 1e-3, nodes, zs, s.scratch)
+    joint_kernel(1, 1e-3, nodes, s.bodies, js)
+    t_zone = best_of(lambda: zone_kernel(200, 1e-3, nodes, zs, s.scratch), 1) / 200
+    t_joint = best_of(lambda: joint_kernel(2000, 1e-3, nodes, s.bodies, js), 1) / 2000
     t0 = time.perf_counter()
     s.cycle(2000)
     t_step = (time.perf_counter() - t0) / 2000
-    nt, nsc = b["tets"].shape[0], j["area"].shape[0]
+    nt, nsc = zs.tets.shape[0], js.area.shape[0]
     return dict(ns_per_tet_step=round(t_zone / nt * 1e9, 1),
                 ns_per_subcontact_step=round(t_joint / nsc * 1e9, 1),
                 steps_per_s=round(1.0 / t_step, 1),

@@ -5,7 +5,8 @@ import pytest
 
 from masonrydem import Elastic, InputError, JointProps, Model, MohrCoulomb, Solver
 from masonrydem import kernels as K
-from masonrydem.scene import build, validate_scene
+from masonrydem.scene import validate_scene
+from masonrydem.specimen import build
 
 JP = JointProps(kn=1e11, ks=4e10, ft=0.3e6, c=0.36e6, phi=35.0, GI=9.0, GII=90.0)
 
@@ -23,15 +24,15 @@ def test_wallette_joints_and_areas(cells):
     head = [c for c in m.contacts if c.axis == 0]
     bed = [c for c in m.contacts if c.axis == 2]
     assert len(head) == 18 and len(bed) == 35
-    area = b["joints"]["area"]
+    area = b.joints.area
     for c in m.contacts:
         assert area[c.sc].sum() == pytest.approx(c.area, rel=1e-12)
     for c in head:
         assert c.area == pytest.approx(0.075 * 0.114, rel=1e-12)
     assert {round(c.area / 0.114, 9) for c in bed} == {0.12}   # half-unit overlaps
     assert area.sum() == pytest.approx(18 * 0.075 * 0.114 + 5 * 0.84 * 0.114, rel=1e-12)
-    w = b["joints"]["w"]
-    cnt = b["joints"]["cnt"]
+    w = b.joints.w
+    cnt = b.joints.cnt
     for s in range(area.size):   # interpolation weights of each side sum to 1
         assert w[s, :cnt[s, 0]].sum() == pytest.approx(1.0, abs=1e-12)
         assert w[s, 4:4 + cnt[s, 1]].sum() == pytest.approx(1.0, abs=1e-12)
@@ -187,10 +188,10 @@ def test_strip_node_numbered_after_all_blocks():
     m.add_box([0.2, 0, 0], [0.3, 0.1, 0.1], 1, Elastic(1e9, 0.2))
     m.add_monitor("s", [strip], 2)
     b = m.build()
-    assert strip.node == 16 and b["nn"] == 17
-    assert np.all(b["bearings"]["nodes"][:, 4] == 16)
-    assert b["mon_nodes"].tolist() == [16]
-    assert np.all(b["fixed"][16] == 1) and np.all(b["fixed"][8] == 0)
+    assert strip.node == 16 and b.n == 17
+    assert np.all(b.bearings.nodes[:, 4] == 16)
+    assert b.monitors.nodes.tolist() == [16]
+    assert np.all(b.nodes.fixed[16] == 1) and np.all(b.nodes.fixed[8] == 0)
 
 
 def test_refused_strip_leaves_nothing_behind():
@@ -199,4 +200,4 @@ def test_refused_strip_leaves_nothing_behind():
     m.add_box([0, 0, 0], [0.1, 0.1, 0.1], 1, Elastic(1e9, 0.2))
     with pytest.raises(InputError, match="strips.s.velocity"):
         m.add_strip("s", 2, 0.1, +1, ((0, 0.1), (0, 0.1)), kn=1e10, velocity=(0, 1))
-    assert m.build()["bearings"]["area"].size == 0 and m.strips == []
+    assert m.build().bearings.area.size == 0 and m.strips == []

@@ -5,7 +5,9 @@ import pytest
 
 from masonrydem import InputError
 from masonrydem import kernels as K
-from masonrydem.scene import build, joint_kn, load_scene, validate_scene
+from masonrydem.masonry import joint_kn
+from masonrydem.scene import load_scene, validate_scene
+from masonrydem.specimen import build
 
 WILLIS = "config/scenes/willis.yaml"
 
@@ -18,7 +20,7 @@ def test_willis_scene_is_the_study_specimen():
     x = sp.model.x0
     assert np.ptp(x, axis=0) == pytest.approx([1.080, 0.114, 0.450])
     assert len(sp.units) == 24 and len(sp.joints) == 38
-    kn = sp.model.build()["joints"]["par"][:, K.JP_KN]
+    kn = sp.model.build().joints.par[:, K.JP_KN]
     np.testing.assert_allclose(kn, 15e9 * 1.5e9 / (0.01 * 13.5e9))
     assert kn[0] == pytest.approx(166.7e9, rel=1e-3)
     assert sp.shear_span == pytest.approx(0.275)
@@ -66,7 +68,7 @@ def test_joint_numbering_and_per_joint_values():
     ft = np.linspace(0.1e6, 0.8e6, 38)
     sc = validate_scene({"name": "t", "materials": {"per_joint": {"ft": ft.tolist()}}})
     sp = build(sc)
-    m, par = sp.model, sp.model.build()["joints"]["par"]
+    m, par = sp.model, sp.model.build().joints.par
     for c, j in zip(m.contacts, sp.contact_joint):
         ua, ub = sp.units[c.block_a], sp.units[c.block_b]
         kind, unit = sp.joints[j]
@@ -86,7 +88,7 @@ def test_joint_stiffness_follows_mean_unit_modulus():
     """A joint's k_n uses the mean E_b of the two units it connects."""
     E = np.where(np.arange(24) % 2, 10e9, 20e9)
     sp = build(validate_scene({"name": "t", "materials": {"per_unit": {"E": E.tolist()}}}))
-    par = sp.model.build()["joints"]["par"]
+    par = sp.model.build().joints.par
     for c in sp.model.contacts:
         expected = joint_kn(0.5 * (E[c.block_a] + E[c.block_b]), 0.1, 0.01)
         np.testing.assert_allclose(par[c.sc, K.JP_KN], expected)
@@ -101,7 +103,7 @@ def test_rigid_units_refuse_a_final_state_and_build_without_zones():
     assert e.value.field == "outputs.state"
     rigid = build(load_scene(WILLIS, ["physics.blocks=rigid"]))
     full = build(load_scene(WILLIS))
-    assert rigid.model.n_nodes == 24 and "tets" not in rigid.model.build()
+    assert rigid.model.n_nodes == 24 and rigid.model.build().zones.tets.shape[0] == 0
     assert len(rigid.model.contacts) == len(full.model.contacts)
     np.testing.assert_array_equal(rigid.contact_joint, full.contact_joint)
 
@@ -119,10 +121,10 @@ def test_precompression_force_and_where_it_acts(spreader):
     sp = build(load_scene(WILLIS, [f"loading.precompression.pressure={sigma}",
                                    f"loading.precompression.spreader={str(spreader).lower()}"]))
     b = sp.model.build()
-    fz, x = b["fext"][:, 2], b["x0"][:, 0]
+    fz, x = b.nodes.fext[:, 2], b.nodes.x0[:, 0]
     assert fz.sum() == pytest.approx(-sigma * 0.960 * 0.114, rel=1e-12)
     loaded = fz != 0.0
     lo, hi = (0.120, 0.960) if spreader else (0.120, 1.080)
     assert x[loaded].min() == pytest.approx(lo) and x[loaded].max() == pytest.approx(hi)
-    end = b["block_of_node"] == sp.units.index((5, 3))
+    end = b.block_of_node == sp.units.index((5, 3))
     assert np.sum(fz[end] * x[end]) / np.sum(fz[end]) == pytest.approx(0.900 if spreader else 0.960, abs=1e-9)

@@ -6,7 +6,8 @@ import pytest
 
 from masonrydem import InputError
 from masonrydem.runner import run_scene
-from masonrydem.scene import joint_kn, load_scene
+from masonrydem.masonry import joint_kn
+from masonrydem.scene import load_scene
 from masonrydem.validation import initial_stiffness
 
 TENSION = "config/scenes/tension.yaml"

@@ -33,7 +33,7 @@ def _column():
 
 def _kick(s, amplitude=0.1):
     """A bending-like initial velocity, v_x = a (z / H)^2."""
-    x = s.b["x0"]
+    x = s.nodes.x0
     s.v[:, 0] = amplitude * (x[:, 2] / 0.3) ** 2
     s.v[s.fixed > 0] = 0.0
 
@@ -87,10 +87,10 @@ def test_critical_step_counts_the_damping():
 
 def _strain_energy(s):
     """Sum over zones of w V (s:s / (4 G) + p^2 / (2 K)) (elastic)."""
-    st, b = s.stress, s.b
+    st, z = s.stress, s.zones
     p = st[:, :3].mean(axis=1)
     ss = ((st[:, :3] - p[:, None]) ** 2).sum(axis=1) + 2.0 * (st[:, 3:] ** 2).sum(axis=1)
-    return float(np.sum(b["vol"] * b["wt"] * (ss / (4.0 * b["zp"][:, K.ZP_G]) + p ** 2 / (2.0 * b["zp"][:, K.ZP_K]))))
+    return float(np.sum(z.vol * z.wt * (ss / (4.0 * z.par[:, K.ZP_G]) + p ** 2 / (2.0 * z.par[:, K.ZP_K]))))
 
 
 def test_undamped_vibration_conserves_energy():

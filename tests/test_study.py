@@ -4,7 +4,9 @@ import pytest
 
 from masonrydem import kernels as K
 from masonrydem.sampling import study_samples
-from masonrydem.scene import build, joint_kn, load_scene
+from masonrydem.masonry import joint_kn
+from masonrydem.scene import load_scene
+from masonrydem.specimen import build
 from masonrydem.study import study_scene
 
 BASE = load_scene("config/scenes/willis.yaml")
@@ -18,7 +20,7 @@ def test_nonspatial_sample_reaches_every_zone_and_joint():
     s = dict(sample=3, f_tj=0.25e6, f_tu=4.2e6, phi_j=33.0, E_b=12e9)
     sp = build(study_scene(BASE, "nonspatial", s, 0.25e6))
     b = sp.model.build()
-    zp, jp = b["zp"], b["joints"]["par"]
+    zp, jp = b.zones.par, b.joints.par
     G = 12e9 / 2.4
     np.testing.assert_allclose(zp[:, K.ZP_G], G)
     np.testing.assert_allclose(zp[:, K.ZP_FT], 4.2e6)
@@ -43,12 +45,12 @@ def test_spatial_sample_per_unit_and_joint():
     start = 0
     for blk in sp.model.blocks:
         n = blk.mesh.tets.shape[0]
-        zp = b["zp"][start:start + n]
+        zp = b.zones.par[start:start + n]
         np.testing.assert_allclose(zp[:, K.ZP_FT], s["f_tu"][blk.id])
         np.testing.assert_allclose(zp[:, K.ZP_GF], 40.0 * (s["f_tu"][blk.id] / 1e6) ** 0.7)
         np.testing.assert_allclose(zp[:, K.ZP_G], s["E_b"][blk.id] / 2.4)
         start += n
-    jp = b["joints"]["par"]
+    jp = b.joints.par
     for c, j in zip(sp.model.contacts, sp.contact_joint):
         np.testing.assert_allclose(jp[c.sc, K.JP_FT], s["f_tj"][j])
         np.testing.assert_allclose(jp[c.sc, K.JP_WU], 2 * 0.03e-3)

@@ -275,10 +275,10 @@ def _zone_bar(nx, rate=2e-9):
     m.fix(right, dofs=[0], velocity=rate)
     m.add_monitor("pull", right, 0)
     b = m.build()
-    centroid = b["x0"][b["tets"]].mean(axis=1)[:, 0]
+    centroid = b.nodes.x0[b.zones.tets].mean(axis=1)[:, 0]
     h = L / nx
     weak = np.abs(centroid - (0.5 * L + 0.5 * h) + 1e-12) < 0.5 * h
-    b["zp"][weak, K.ZP_FT] *= 0.98
+    b.zones.par[weak, K.ZP_FT] *= 0.98
     s = Solver(m, record_every=1)
     wu = 2 * mat.Gf / mat.ft
     s.run(2_000_000, disp_limit=1.3 * wu, monitor="pull")
@@ -341,9 +341,9 @@ def test_column_under_gravity_has_stress_rho_g_height_above():
     s = Solver(m)
     assert s.run(400_000, ratio_tol=1e-7).status == "converged"
     b = m.build()
-    zc = b["x0"][b["tets"]].mean(axis=1)[:, 2]
+    zc = b.nodes.x0[b.zones.tets].mean(axis=1)[:, 2]
     cell = np.floor(zc / 0.1).astype(int)
-    w = b["vol"] * b["wt"]
+    w = b.zones.vol * b.zones.wt
     for c in range(10):
         sel = cell == c
         szz = np.sum(s.stress[sel, 2] * w[sel]) / np.sum(w[sel])
@@ -368,10 +368,10 @@ def test_elastic_blocks_never_evaluate_a_yield_function():
         m.fix(left[:1], dofs=[1, 2])
         m.fix(right, dofs=[0], velocity=1e-8)
         b = m.build()
-        b["zlaw"] = law
-        b["zp"][:, K.ZP_FT] = 1.0
-        b["zp"][:, K.ZP_C] = 1e9
-        b["zp"][:, K.ZP_GF] = 1.0
+        b.zlaw = law
+        b.zones.par[:, K.ZP_FT] = 1.0
+        b.zones.par[:, K.ZP_C] = 1e9
+        b.zones.par[:, K.ZP_GF] = 1.0
         s = Solver(m)
         s.run(1000)
         results[law] = (s.stress[:, 0].mean(), s.zs[:, K.ZS_EPT].max())
@@ -396,7 +396,7 @@ def test_without_gravity_the_kernel_never_reads_the_gravity_masses():
         m.gravity = np.array(gravity)
         b = m.build()
         if poison:
-            b["mphys"][:] = np.nan
+            b.nodes.mgrav[:] = np.nan
         s = Solver(m)
         s.run(500)
         return s

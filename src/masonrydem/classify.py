@@ -20,9 +20,9 @@ def cell_damage(specimen, solver):
     for rigid units (they cannot crack)."""
     if specimen.model.rigid:
         return []
-    b = solver.b
+    z = solver.zones
     d = solver.zone_damage()
-    wv = b["vol"] * b["wt"]
+    wv = z.vol * z.wt
     out = []
     start = 0
     for blk in specimen.model.blocks:
@@ -37,7 +37,7 @@ def cell_damage(specimen, solver):
 
 def joint_damage(specimen, solver):
     """Area-weighted mean damage D of each joint (contact plane)."""
-    area = solver.b["joints"]["area"]
+    area = solver.joints.area
     D = solver.js[:, K.JS_D]
     num = np.zeros(len(specimen.joints))
     den = np.zeros(len(specimen.joints))

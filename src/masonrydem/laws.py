@@ -1,12 +1,16 @@
-"""Constitutive laws, Python side: validated parameters -> kernel rows.
+"""Constitutive laws, Python side: the tables of laws, validated
+parameters -> kernel rows.
 
-The laws themselves are the small jitted functions in ``kernels``; this
-module names them, checks their parameters (refusing bad values with the
-field's name) and packs them into the per-zone / per-sub-contact parameter
-rows the kernels read.
+The laws themselves are small jitted functions in ``kernels.zones`` and
+``kernels.joints``.  Each law is declared once, in ``BLOCK_MODELS`` or
+``JOINT_LAWS``: its name in a scene (``physics.blocks`` /
+``physics.joints``; the scene schema takes its choices from these
+tables), its kernel id and the parameters it reads, which are validated
+(refusing bad values with the field's name) and packed into the
+per-zone / per-sub-contact rows the kernels read.
 """
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -14,23 +18,24 @@ from . import kernels as K
 from .errors import InputError
 
 
+def _number(value):
+    return isinstance(value, (int, float, np.floating, np.integer)) and math.isfinite(value)
+
+
 def _positive(field, value):
-    if not (isinstance(value, (int, float, np.floating, np.integer))
-            and math.isfinite(value) and value > 0):
+    if not (_number(value) and value > 0):
         raise InputError(field, f"must be a positive number, got {value!r}")
     return float(value)
 
 
 def _non_negative(field, value):
-    if not (isinstance(value, (int, float, np.floating, np.integer))
-            and math.isfinite(value) and value >= 0):
+    if not (_number(value) and value >= 0):
         raise InputError(field, f"must be a non-negative number, got {value!r}")
     return float(value)
 
 
 def _angle(field, value):
-    if not (isinstance(value, (int, float, np.floating, np.integer))
-            and 0.0 <= value < 90.0):
+    if not (_number(value) and 0.0 <= value < 90.0):
         raise InputError(field, f"must be an angle in degrees in [0, 90), got {value!r}")
     return float(value)
 
@@ -47,9 +52,15 @@ class Elastic:
 
     def validate(self, where):
         _positive(f"{where}.E", self.E)
-        if not (-1.0 < self.nu < 0.5):
+        if not (_number(self.nu) and -1.0 < self.nu < 0.5):
             raise InputError(f"{where}.nu", f"Poisson's ratio must be in (-1, 0.5), got {self.nu!r}")
         _non_negative(f"{where}.density", self.density)
+
+    @classmethod
+    def of(cls, **props):
+        """The material from a unit's properties (those it has no field for,
+        strengths for an elastic one, are ignored)."""
+        return cls(**{f.name: props[f.name] for f in fields(cls)})
 
     def moduli(self):
         """Bulk and shear moduli K = E / (3(1-2nu)), G = E / (2(1+nu))."""
@@ -69,7 +80,7 @@ class Elastic:
 @dataclass(frozen=True)
 class MohrCoulomb(Elastic):
     """Elasto-plastic Mohr-Coulomb with tension cut-off and linear tension
-    softening regularised by the crack band (kernels.zone_mohr_coulomb).
+    softening regularised by the crack band (kernels.zones.zone_mohr_coulomb).
     ft tensile strength (Pa), c cohesion (Pa), phi friction angle (deg),
     Gf mode-I fracture energy (N/m).  Shear: perfectly plastic, zero
     dilation."""
@@ -96,16 +107,53 @@ class MohrCoulomb(Elastic):
         return r
 
 
+@dataclass(frozen=True)
+class BlockModel:
+    """A block model a scene can declare (``physics.blocks``)."""
+    name: str
+    material: type        # the material class of its units
+    rigid: bool
+
+
+BLOCK_MODELS = {m.name: m for m in (
+    BlockModel("rigid", Elastic, True),
+    BlockModel("elastic", Elastic, False),
+    BlockModel("elasto-plastic", MohrCoulomb, False),
+)}
+
+
 # --- joint laws --------------------------------------------------------------
-JOINT_LAWS = {
-    "elastic": K.JOINT_ELASTIC,
-    "brittle_coulomb": K.JOINT_BRITTLE_COULOMB,
-    "coupled_softening": K.JOINT_COUPLED,
-    "friction": K.JOINT_FRICTION,
+@dataclass(frozen=True)
+class JointLaw:
+    """A joint law: its name in a scene (``physics.joints``), its kernel id
+    and the JointProps fields it reads (each validated by FIELD_RULES)."""
+    name: str
+    id: int
+    fields: tuple
+
+
+JOINT_LAWS = {law.name: law for law in (
+    JointLaw("elastic", K.JOINT_ELASTIC, ("kn", "ks")),
+    JointLaw("brittle_coulomb", K.JOINT_BRITTLE_COULOMB, ("kn", "ks", "ft", "c", "phi")),
+    JointLaw("coupled_softening", K.JOINT_COUPLED, ("kn", "ks", "ft", "c", "phi", "GI", "GII")),
+    JointLaw("friction", K.JOINT_FRICTION, ("kn", "ks", "phi")),
+)}
+
+# a field's rule: (props, field name) -> None or InputError; a joint with
+# strength needs a positive fracture energy to soften
+FIELD_RULES = {
+    "kn": lambda p, f: _positive(f, p.kn),
+    "ks": lambda p, f: _positive(f, p.ks),
+    "ft": lambda p, f: _non_negative(f, p.ft),
+    "c": lambda p, f: _non_negative(f, p.c),
+    "phi": lambda p, f: _angle(f, p.phi),
+    "GI": lambda p, f: p.ft > 0 and _positive(f, p.GI),
+    "GII": lambda p, f: p.c > 0 and _positive(f, p.GII),
 }
 
 
-def joint_law_id(name, field="joints.law"):
+def joint_law(name, field="joints.law"):
+    """The law named ``name`` (JOINT_LAWS), or InputError naming ``field``."""
     try:
         return JOINT_LAWS[name]
     except (KeyError, TypeError):
@@ -117,7 +165,7 @@ def joint_law_id(name, field="joints.law"):
 class JointProps:
     """Zero-thickness joint: stiffnesses kn, ks (Pa/m), tensile strength ft
     and cohesion c (Pa), friction angle phi (deg), fracture energies GI, GII
-    (N/m).  Laws that need no strength ignore ft, c, GI, GII."""
+    (N/m).  A law reads only the fields its table entry names."""
     kn: float
     ks: float
     ft: float = 0.0
@@ -127,19 +175,8 @@ class JointProps:
     GII: float = 0.0
 
     def validate(self, where, law="coupled_softening"):
-        _positive(f"{where}.kn", self.kn)
-        _positive(f"{where}.ks", self.ks)
-        if law == "elastic":
-            return
-        _non_negative(f"{where}.ft", self.ft)
-        _non_negative(f"{where}.c", self.c)
-        _angle(f"{where}.phi", self.phi)
-        if law == "coupled_softening":
-            # a joint with strength needs a positive fracture energy to soften
-            if self.ft > 0:
-                _positive(f"{where}.GI", self.GI)
-            if self.c > 0:
-                _positive(f"{where}.GII", self.GII)
+        for name in joint_law(law).fields:
+            FIELD_RULES[name](self, f"{where}.{name}")
 
     def row(self):
         r = np.zeros(K.N_JP)

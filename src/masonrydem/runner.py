@@ -16,9 +16,10 @@ import numpy as np
 import pandas as pd
 
 from . import __version__, source_hash
+from . import kernels as K
 from .classify import classify
-from .scene import build, strength
 from .solver import PEAK_RATIO, Solver
+from .specimen import build, strength
 
 GOOD = ("load_drop", "displacement_limit")
 DROP_WINDOW = 1e-4   # m: 'drop_after_peak' is the load lost within this displacement after the peak
@@ -36,9 +37,9 @@ class Progress:
         if now - self.last < self.every:
             return
         self.last = now
-        P, u = (s.last[2], s.last[3]) if s.ngrp else (0.0, 0.0)
+        P, u = (s.last[K.h_force(0)], s.last[K.h_disp(0)]) if s.ngrp else (0.0, 0.0)
         print(f"[{self.stage}] step {s.step:8d}  load {P / 1e3:8.3f} kN  disp {(u - self.u0) * 1e3:7.4f} mm"
-              f"  ratio {s.last[0]:.2e}  ({now - self.t0:.0f} s)", file=self.stream, flush=True)
+              f"  ratio {s.last[K.H_RATIO]:.2e}  ({now - self.t0:.0f} s)", file=self.stream, flush=True)
 
 
 def downsample(disp, load, n):
@@ -80,7 +81,8 @@ def run_scene(scene, progress=True):
         res = s.run(pre["max_steps"], ratio_tol=pre["ratio_tol"],
                     progress=Progress("precompression") if progress else None)
         pre_status = res.status
-    u0 = float(s.last[3])
+    g = s.monitor_index("load")
+    u0 = float(s.last[K.h_disp(g)])
     start = s.step
     loaded = res is None or res.status in ("converged", "max_steps")
     stage = specimen.stage
@@ -90,29 +92,28 @@ def run_scene(scene, progress=True):
                     monitor="load", ramp_steps=stage["ramp_steps"],
                     progress=Progress(specimen.test, u0) if progress else None)
     H = s.history.array()
-    H = H[H[:, 0] > start] if H.size else np.zeros((0, 5))
+    H = H[H[:, K.H_STEP] > start]         # the loading stage
+    step, ratio, P, u = H[:, K.H_STEP], H[:, K.H_RATIO], H[:, K.h_force(g)], H[:, K.h_disp(g)]
     # no loading stage (the precompression failed): no peak
-    peak_P, peak_u, peak_step, peak_ratio = (s.history.peak[0] if loaded and 0 in s.history.peak
+    peak_P, peak_u, peak_step, peak_ratio = (s.history.peak[g] if loaded and g in s.history.peak
                                              else (math.nan, math.nan, -1, math.nan))
     status, message = res.status, res.message
     # a peak inside the velocity ramp does not count (History): a run that
     # reached its stop criteria would report a later, lower load as its peak
-    ramp = H[H[:, 0] <= start + stage["ramp_steps"], 3]
+    ramp = P[step <= start + stage["ramp_steps"]]
     if res.status in GOOD and ramp.size and not ramp.max() <= peak_P:
         status, message = "peak_in_ramp", (f"the load peaked at {ramp.max() / 1e3:.4g} kN within the velocity ramp "
                                            f"(the first {stage['ramp_steps']} steps), where a peak does not count: "
                                            "lower the rate or the ramp steps")
     # after the peak: did the run stay near equilibrium, or did it snap (a
     # sudden crack that displacement control cannot follow, carried by inertia)?
-    ratios_after = H[H[:, 0] > peak_step, 1] if peak_step >= 0 else H[:0, 1]
+    ratios_after = ratio[step > peak_step] if peak_step >= 0 else ratio[:0]
     after_ratio = float(ratios_after.max()) if ratios_after.size else math.nan
-    after = H[(H[:, 4] >= peak_u) & (H[:, 4] <= peak_u + DROP_WINDOW)] if H.size else H
-    drop = 1.0 - after[:, 3].min() / peak_P if after.size and peak_P > 0 else math.nan
-    if H.shape[0]:
-        idx = downsample(H[:, 4], H[:, 3], scene["outputs"]["curve_points"])
-        H = H[idx]
-    curve = pd.DataFrame(dict(step=H[:, 0].astype(np.int64), displacement_mm=(H[:, 4] - u0) * 1e3,
-                              load_kN=H[:, 3] / 1e3, ratio=H[:, 1]))
+    after = P[(u >= peak_u) & (u <= peak_u + DROP_WINDOW)]
+    drop = 1.0 - after.min() / peak_P if after.size and peak_P > 0 else math.nan
+    idx = downsample(u, P, scene["outputs"]["curve_points"]) if H.shape[0] else slice(0)
+    curve = pd.DataFrame(dict(step=step[idx].astype(np.int64), displacement_mm=(u[idx] - u0) * 1e3,
+                              load_kN=P[idx] / 1e3, ratio=ratio[idx]))
     out = scene["outputs"]
     row.update(
         P_max_kN=peak_P / 1e3,
@@ -130,7 +131,7 @@ def run_scene(scene, progress=True):
         max_ratio_after_peak=after_ratio,
         post_peak=("none" if math.isnan(after_ratio) else "dynamic" if after_ratio >= PEAK_RATIO
                    else "quasi-static"),
-        tets=int(s.b["tets"].shape[0]) if "tets" in s.b else 0,
+        tets=int(s.zones.tets.shape[0]),
         subcontacts=int(s.js.shape[0]),
         max_rotation_rad=s.max_rotation(),
         wall_time_s=time.perf_counter() - t0,

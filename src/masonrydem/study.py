@@ -4,21 +4,12 @@ Dependent quantities (study.md, 5): c_j = 1.2 f_tj; G_fj,I = 0.03 f_tj and
 G_fu = 0.04 f_tu^0.7 (N/mm with f in MPa), G_fj,II = 10 G_fj,I;
 c_u = 1.5 f_tu; k_n from E_b, k_s = 0.4 k_n (the scene's rules).  In the
 spatial variant a joint's k_n follows the mean E_b of the two units it
-connects (scene.build).
+connects (specimen.build).
 """
 import copy
 
-import numpy as np
-
+from .masonry import GF_COEFFICIENT, GF_EXPONENT, GI_PER_FT, unit_fracture_energy
 from .scene import validate_scene
-
-GI_PER_FT = 0.03 * 1e3 / 1e6     # G_I (N/m) per f_tj (Pa): 0.03 N/mm per MPa
-GF_COEFFICIENT, GF_EXPONENT = 0.04, 0.7
-
-
-def unit_fracture_energy(f_tu):
-    """G_fu = 0.04 f_tu^0.7 (N/mm, f in MPa), returned in N/m."""
-    return 1e3 * GF_COEFFICIENT * (np.asarray(f_tu, float) / 1e6) ** GF_EXPONENT
 
 
 def study_scene(base, variant, sample, sigma_v):

@@ -23,18 +23,18 @@ def zones_grid(specimen, solver=None):
     Only the first overlay of each cell is kept (the two overlays fill the
     same cell)."""
     m = specimen.model
-    b = m.build()
+    a = m.build()
     nb = m.n_nodes
-    tets = b["tets"]
+    tets = a.zones.tets
     first = (np.arange(tets.shape[0]) % 10) < 5
     cells = np.hstack([np.full((first.sum(), 1), 4), tets[first]]).ravel()
-    grid = pv.UnstructuredGrid(cells, np.full(first.sum(), pv.CellType.TETRA), b["x0"][:nb])
+    grid = pv.UnstructuredGrid(cells, np.full(first.sum(), pv.CellType.TETRA), a.nodes.x0[:nb])
     unit = np.concatenate([np.full(blk.mesh.tets.shape[0], blk.id + 1) for blk in m.blocks])
     grid.cell_data["unit"] = unit[first]
     grid.point_data["u"] = solver.u[:nb] if solver is not None else np.zeros((nb, 3))
     if solver is not None:
         d = solver.zone_damage()
-        w = b["vol"] * b["wt"]
+        w = a.zones.vol * a.zones.wt
         grid.cell_data["damage"] = np.repeat((d * w).reshape(-1, 10).sum(axis=1)
                                              / w.reshape(-1, 10).sum(axis=1), 5)
     return grid
@@ -45,23 +45,23 @@ def joints_points(specimen, solver):
     point data 'u' (displacement of side A), 'damage' (D), 'joint'
     (1-based) and 'area'."""
     m = specimen.model
-    b = m.build()
-    j = b["joints"]
-    n = j["area"].size
+    a = m.build()
+    j = a.joints
+    n = j.area.size
     pts = np.zeros((n, 3))
     disp = np.zeros((n, 3))
     for k in range(4):
-        mask = k < j["cnt"][:, 0]
-        w = j["w"][mask, k, None]
-        pts[mask] += w * b["x0"][j["nodes"][mask, k]]
-        disp[mask] += w * solver.u[j["nodes"][mask, k]]
+        mask = k < j.cnt[:, 0]
+        w = j.w[mask, k, None]
+        pts[mask] += w * a.nodes.x0[j.nodes[mask, k]]
+        disp[mask] += w * solver.u[j.nodes[mask, k]]
     poly = pv.PolyData(pts)
     joint = np.zeros(n, int)
     for c, jn in zip(m.contacts, specimen.contact_joint):
         joint[c.sc] = jn + 1
     poly.point_data["u"] = disp
     poly.point_data["joint"] = joint
-    poly.point_data["area"] = j["area"]
+    poly.point_data["area"] = j.area
     poly.point_data["damage"] = solver.js[:, K.JS_D]
     return poly
 

@@ -1,0 +1,206 @@
+"""Assembly: a Model packed into the kernels' containers (``Model.build``).
+
+Deformable blocks: nodes (the blocks' gridpoints, then one per strip),
+zones, joints and the strips' bearings, the Gershgorin bound of each
+node's stiffness.  Rigid blocks: one body per block (then one per strip),
+with its mass, principal inertia, lever scale and the bounds of its
+translational and rotational contact stiffness; no zones.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import kernels as K
+from .contacts import Strip, SubContacts, find_joints
+from .errors import InputError
+from .laws import joint_law
+from .mesh import tet_geometry
+from .stability import contact_stiffness, rigid_contact_stiffness, zone_stiffness
+
+
+@dataclass
+class Assembly:
+    """What the solver needs of a model.  The containers hold the model's
+    arrays; their state arrays (displacements, stresses, tractions) are
+    zero, and each solver works on copies of them."""
+    rigid: bool
+    large: bool
+    zlaw: int
+    jlaw: int
+    nodes: K.Nodes
+    zones: K.Zones
+    joints: K.Contacts
+    bearings: K.Contacts
+    bodies: K.Bodies
+    monitors: K.Monitors
+    joint_points: np.ndarray      # (n, 3) position of each joint sub-contact
+    bearing_points: np.ndarray
+    contacts: list                # contacts.Contact, one per joint
+    stiffness: np.ndarray         # (n,) bound of each node's (body's translational) stiffness
+    rot_stiffness: np.ndarray     # (n,) rigid: bound of each body's rotational stiffness
+    inertia: np.ndarray           # (n, 3) rigid: principal moments of inertia
+    block_of_node: np.ndarray     # (n,) block of each node (-1: a strip)
+
+    @property
+    def n(self):
+        return self.nodes.x0.shape[0]
+
+
+def assemble(model):
+    """Packs ``model`` (blocks all rigid or all deformable)."""
+    if not model.blocks:
+        raise InputError("blocks", "the model has no block")
+    if len({b.rigid for b in model.blocks}) > 1:
+        raise InputError("physics.blocks", "a model's blocks are all rigid or all deformable, not both")
+    if model.large and not model.rigid:
+        raise InputError("physics.displacements", "large displacements need rigid blocks: deformable "
+                         "blocks are small-displacement (strains on the initial geometry)")
+    nb = model.n_nodes
+    x0 = np.zeros((nb + len(model.strips), 3))
+    x0[:nb] = model.x0
+    common = _common(model, x0)
+    return _rigid(model, x0, **common) if model.rigid else _deformable(model, x0, **common)
+
+
+def _common(model, x0):
+    """What deformable and rigid models share: the joints (sub-contacts
+    found from the initial geometry) and the strips' bearings, with the
+    strips numbered after the block nodes; fixities; monitors."""
+    nb, nn = model.n_nodes, x0.shape[0]
+    contacts, sc = [], SubContacts()
+    if model.joint_law is not None:
+        contacts, sc = find_joints(model.blocks, model.joint_law, model.joint_props, model.subcontact_refine)
+    joints, joint_points = sc.pack()
+    bearings, bearing_points = model.strip_subcontacts.pack()
+    strip_side = bearings.nodes[:, 4]
+    bearings.nodes[:, 4] = np.where(strip_side < 0, nb - strip_side - 1, strip_side)
+    for i, s in enumerate(model.strips):
+        s.node = nb + i
+    fixed = np.zeros((nn, 3), np.uint8)
+    vpres = np.zeros((nn, 3))
+    for nd, dd in model.fixities.items():
+        for dof, vv in dd.items():
+            fixed[nd, dof] = 1
+            vpres[nd, dof] = vv
+    for s in model.strips:
+        x0[s.node] = s.x0
+        fixed[s.node] = 1
+        vpres[s.node] = s.velocity
+    mon_nodes, mon_dir, mon_grp = [], [], []
+    for g, (_, items, d) in enumerate(model.monitors):
+        nodes = [it.node if isinstance(it, Strip) else int(it) for it in items]
+        mon_nodes.extend(nodes)
+        mon_dir.extend([d] * len(nodes))
+        mon_grp.extend([g] * len(nodes))
+    monitors = K.Monitors(np.asarray(mon_nodes, np.int64), np.asarray(mon_dir, np.int64),
+                          np.asarray(mon_grp, np.int64))
+    jlaw = joint_law(model.joint_law).id if model.joint_law else K.JOINT_ELASTIC
+    return dict(jlaw=jlaw, joints=joints, bearings=bearings, joint_points=joint_points,
+                bearing_points=bearing_points, contacts=contacts, fixed=fixed, vpres=vpres, monitors=monitors)
+
+
+def _nodes(x0, mphys, fixed, vpres, fext):
+    nn = x0.shape[0]
+    return K.Nodes(x0=x0, u=np.zeros((nn, 3)), v=np.zeros((nn, 3)), f=np.zeros((nn, 3)), mass=np.ones(nn),
+                   mgrav=mphys, fixed=fixed, vpres=vpres, fext=fext)
+
+
+def _deformable(model, x0, jlaw, joints, bearings, joint_points, bearing_points, contacts, fixed, vpres, monitors):
+    """Zones of every block, nodal masses for gravity (a quarter of each
+    tetrahedron's weighted mass), the nodes' stiffness bounds."""
+    nn = x0.shape[0]
+    tets, dn, vol, wt, zp, gptr, gnodes, gnptr, block_of_node = [], [], [], [], [], [0], [], [0], []
+    t_off = 0
+    for b in model.blocks:
+        m = b.mesh
+        t = m.tets + b.node0
+        try:
+            d, v = tet_geometry(x0, t)
+        except InputError as e:
+            raise InputError(f"blocks[{b.id}].mesh", e.reason) from None
+        tets.append(t)
+        dn.append(d)
+        vol.append(v)
+        wt.append(m.weight)
+        zp.append(np.tile(b.material.row(), (t.shape[0], 1)))
+        gptr.extend((m.gptr[1:] + t_off).tolist())
+        gnodes.append(m.gnodes + b.node0)
+        gnptr.extend((m.gnptr[1:] + (gnptr[-1])).tolist())
+        block_of_node.append(np.full(b.n_nodes, b.id))
+        t_off += t.shape[0]
+    # one zone law for the model: elastic rows never yield under Mohr-Coulomb
+    zlaw = max(b.material.law_id for b in model.blocks)
+    fext = np.zeros((nn, 3))
+    for nd, f in model.forces.items():
+        fext[nd] += f
+    vol = np.concatenate(vol)
+    wt = np.concatenate(wt)
+    tets = np.concatenate(tets)
+    rho = np.concatenate([np.full(b.mesh.tets.shape[0], b.material.density) for b in model.blocks])
+    mphys = np.zeros(nn)
+    np.add.at(mphys, tets.ravel(), np.repeat(rho * vol * wt / 4.0, 4))
+    stiff = np.zeros(nn)
+    zp = np.concatenate(zp)
+    dn = np.concatenate(dn)
+    zone_stiffness(stiff, tets, dn, vol * wt, zp)
+    contact_stiffness(stiff, joints)
+    contact_stiffness(stiff, bearings)
+    nt = tets.shape[0]
+    zones = K.Zones(tets=tets, dn=dn, vol=vol, wt=wt, gptr=np.asarray(gptr, np.int64),
+                    gnodes=np.concatenate(gnodes), gnptr=np.asarray(gnptr, np.int64), par=zp,
+                    state=np.zeros((nt, K.N_ZS)), stress=np.zeros((nt, 6)))
+    return Assembly(
+        rigid=False, large=False, zlaw=zlaw, jlaw=jlaw, nodes=_nodes(x0, mphys, fixed, vpres, fext), zones=zones,
+        joints=joints, bearings=bearings, bodies=K.empty_bodies(), monitors=monitors, joint_points=joint_points,
+        bearing_points=bearing_points, contacts=contacts, stiffness=stiff, rot_stiffness=np.zeros(0),
+        inertia=np.zeros((0, 3)),
+        block_of_node=np.concatenate(block_of_node + [np.full(len(model.strips), -1)]))
+
+
+def _with_levers(sc, points, x0):
+    """Rigid blocks: a sub-contact's two bodies (its side nodes) and its
+    levers from their reference points (body frame = global at the start)."""
+    body = sc.nodes[:, [0, 4]].copy()
+    return sc._replace(body=body, lever=points[:, None, :] - x0[body])
+
+
+def _rigid(model, x0, jlaw, joints, bearings, joint_points, bearing_points, contacts, fixed, vpres, monitors):
+    """Per body (the blocks, then the strips) its mass and principal
+    inertia (a box: m (b^2 + c^2) / 12 about each axis), lever scale (half
+    its diagonal) and the Gershgorin bounds of its translational and
+    rotational contact stiffness; point loads with their levers."""
+    nb, nn = model.n_nodes, x0.shape[0]
+    mphys = np.zeros(nn)
+    inertia = np.ones((nn, 3))
+    rlen = np.ones(nn)
+    for b in model.blocks:
+        size = b.hi - b.lo
+        m = b.material.density * float(np.prod(size))
+        mphys[b.node0] = m
+        inertia[b.node0] = m / 12.0 * (np.sum(size ** 2) - size ** 2)
+        rlen[b.node0] = 0.5 * float(np.linalg.norm(size))
+    rfixed = np.zeros((nn, 3), np.uint8)
+    rfixed[nb:] = 1
+    ompres = np.zeros((nn, 3))
+    for bid, dd in model.rotation_fixities.items():
+        for dof, w in dd.items():
+            rfixed[model.blocks[bid].node0, dof] = 1
+            ompres[model.blocks[bid].node0, dof] = w
+    joints = _with_levers(joints, joint_points, x0)
+    bearings = _with_levers(bearings, bearing_points, x0)
+    kt, kr = np.zeros(nn), np.zeros(nn)
+    rigid_contact_stiffness(kt, kr, joints)
+    rigid_contact_stiffness(kt, kr, bearings)
+    loads = model.point_loads + [(nd, x0[nd], f) for nd, f in model.forces.items()]
+    bodies = K.Bodies(
+        R=np.repeat(np.eye(3)[None], nn, axis=0), om=np.zeros((nn, 3)), mom=np.zeros((nn, 3)),
+        iinv=np.zeros((nn, 3, 3)), rfixed=rfixed, ompres=ompres, rlen=rlen, fl=np.zeros((nn, 3)),
+        load_body=np.array([nd for nd, _, _ in loads], np.int64),
+        load_lever=np.array([p - x0[nd] for nd, p, _ in loads], float).reshape(-1, 3),
+        load_force=np.array([f for _, _, f in loads], float).reshape(-1, 3))
+    return Assembly(
+        rigid=True, large=bool(model.large), zlaw=K.ZONE_NONE, jlaw=jlaw,
+        nodes=_nodes(x0, mphys, fixed, vpres, np.zeros((nn, 3))), zones=K.empty_zones(), joints=joints,
+        bearings=bearings, bodies=bodies, monitors=monitors, joint_points=joint_points,
+        bearing_points=bearing_points, contacts=contacts, stiffness=kt, rot_stiffness=kr, inertia=inertia,
+        block_of_node=np.concatenate([np.arange(nb), np.full(len(model.strips), -1)]))

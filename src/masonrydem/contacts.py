@@ -1,0 +1,144 @@
+"""Contacts found from the initial geometry: joints between touching box
+faces, and the bearings of rigid strips (supports, load lines); both as
+sub-contacts, points on a face that each carry an area."""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import kernels as K
+from .blocks import GEOM_TOL, face_point, local_axes
+from .errors import InputError
+from .laws import JointProps
+
+
+@dataclass
+class Contact:
+    """A joint: the touching part of two faces."""
+    id: int
+    block_a: int          # the side whose face gridpoints carry the sub-contacts
+    block_b: int
+    axis: int
+    normal: np.ndarray    # from A to B
+    area: float
+    sc: slice             # its sub-contacts
+    props: JointProps = None
+
+
+@dataclass
+class Strip:
+    """A rigid bearing strip (a support or load line): one node with a
+    prescribed velocity, bearing on block faces through compression-only,
+    frictionless sub-contacts of stiffness kn (Pa/m)."""
+    name: str
+    axis: int
+    normal: int
+    kn: float
+    sc: slice
+    area: float
+    x0: np.ndarray        # its node's position: the centre of its rectangle
+    velocity: np.ndarray
+    node: int = -1        # global node (numbered by the assembly, after the block nodes)
+
+
+@dataclass
+class SubContacts:
+    """Growing lists of sub-contacts (packed into a kernels.Contacts)."""
+    nodes: list = field(default_factory=list)
+    cnt: list = field(default_factory=list)
+    w: list = field(default_factory=list)
+    axes: list = field(default_factory=list)
+    area: list = field(default_factory=list)
+    par: list = field(default_factory=list)
+    point: list = field(default_factory=list)   # the sub-contact's position
+
+    def add(self, nodes_a, w_a, nodes_b, w_b, axes, area, par, point):
+        nodes = np.zeros(8, np.int64)
+        w = np.zeros(8)
+        nodes[:len(nodes_a)] = nodes_a
+        w[:len(w_a)] = w_a
+        nodes[4:4 + len(nodes_b)] = nodes_b
+        w[4:4 + len(w_b)] = w_b
+        self.nodes.append(nodes)
+        self.w.append(w)
+        self.cnt.append((len(nodes_a), len(nodes_b)))
+        self.axes.append(axes)
+        self.area.append(area)
+        self.par.append(par)
+        self.point.append(point)
+
+    def __len__(self):
+        return len(self.area)
+
+    def pack(self):
+        """(kernels.Contacts without rigid levers, positions (n, 3))."""
+        n = len(self.area)
+        nodes = np.array(self.nodes, np.int64).reshape(n, 8)
+        return K.Contacts(
+            nodes=nodes, cnt=np.array(self.cnt, np.int64).reshape(n, 2), w=np.array(self.w, float).reshape(n, 8),
+            body=np.zeros((0, 2), np.int64), lever=np.zeros((0, 2, 3)),
+            axes=np.array(self.axes, float).reshape(n, 9), area=np.array(self.area, float).reshape(n),
+            par=np.array(self.par, float).reshape(n, K.N_JP), state=np.zeros((n, K.N_JS)),
+        ), np.array(self.point, float).reshape(n, 3)
+
+
+def find_joints(blocks, law, props, refine):
+    """The joints between touching box faces: (contacts, sub-contacts).
+    ``props``: a JointProps, or a function (block_a, block_b) ->
+    JointProps; ``refine``: the sub-contacts sit at the gridpoints of the
+    face grid refined that many times."""
+    boxes = [b for b in blocks if b.is_box]
+    contacts, sc = [], SubContacts()
+    for i, b1 in enumerate(boxes):
+        for b2 in boxes[i + 1:]:
+            for axis in range(3):
+                for lower, upper in ((b1, b2), (b2, b1)):
+                    if abs(lower.hi[axis] - upper.lo[axis]) > GEOM_TOL:
+                        continue
+                    p, q = lower.face_axes(axis)
+                    rect = ((max(lower.lo[p], upper.lo[p]), min(lower.hi[p], upper.hi[p])),
+                            (max(lower.lo[q], upper.lo[q]), min(lower.hi[q], upper.hi[q])))
+                    if min(rect[0][1] - rect[0][0], rect[1][1] - rect[1][0]) <= GEOM_TOL:
+                        continue
+                    contacts.append(_joint(len(contacts), sc, lower, upper, axis, rect, law, props, refine))
+    return contacts, sc
+
+
+def _joint(cid, sc, lower, upper, axis, rect, law, props, refine):
+    # sub-contacts on the finer face (more gridpoints in the overlap)
+    if upper.nodes_in_rect(axis, rect) > lower.nodes_in_rect(axis, rect):
+        a, b, side_a, side_b, sign = upper, lower, 0, 1, -1.0
+    else:
+        a, b, side_a, side_b, sign = lower, upper, 1, 0, 1.0
+    props = props(a, b) if callable(props) else props
+    if not isinstance(props, JointProps):
+        raise InputError("joints.props", f"expected JointProps, got {type(props).__name__}")
+    props.validate(f"joints[{cid}] (blocks {a.id}-{b.id})", law)
+    row = props.row()
+    axes = local_axes(axis, sign)
+    start = len(sc)
+    P, Q, A = a.face_points(axis, rect, refine)
+    for pp, qq, ar in zip(P, Q, A):
+        na, wa = a.interpolate(axis, side_a, pp, qq)
+        nb, wb = b.interpolate(axis, side_b, pp, qq)
+        sc.add(na, wa, nb, wb, axes, ar, row, face_point(axis, lower.hi[axis], pp, qq))
+    return Contact(cid, a.id, b.id, axis, axes[:3].copy(), float(A.sum()), slice(start, len(sc)), props)
+
+
+def faces_on_plane(blocks, axis, coord, normal, rect):
+    """(block, side, clipped rectangle) of the box faces lying on the plane
+    x[axis] = coord whose outward normal is ``normal`` (+1 or -1) times
+    e_axis and that overlap ``rect`` = ((plo, phi), (qlo, qhi)) in the
+    plane's coordinates (p, q) = (axis+1, axis+2) mod 3."""
+    if normal not in (1, -1):
+        raise InputError("normal", f"must be +1 or -1, got {normal!r}")
+    out = []
+    side = 1 if normal > 0 else 0
+    for b in blocks:
+        if not b.is_box or abs((b.hi[axis] if side else b.lo[axis]) - coord) > GEOM_TOL:
+            continue
+        p, q = b.face_axes(axis)
+        r = ((max(b.lo[p], rect[0][0]), min(b.hi[p], rect[0][1])),
+             (max(b.lo[q], rect[1][0]), min(b.hi[q], rect[1][1])))
+        if min(r[0][1] - r[0][0], r[1][1] - r[1][0]) > GEOM_TOL:
+            out.append((b, side, r))
+    return out

@@ -1,0 +1,265 @@
+"""Joint (contact) laws and the forces of the sub-contacts.
+
+A joint law has the signature law(s, jp, js, dun, dus1, dus2) -> None: it
+updates the tractions js[s, JS_SN] (tension positive), js[s, JS_T1],
+js[s, JS_T2] and the law's state from the relative displacement
+increments of sub-contact s (du_n opening positive, du_s in the two
+tangent directions).  ``joint_law`` dispatches on the law id (laws.py
+holds the table of laws).  One path serves deformable and rigid blocks:
+only the kinematics differ (how a sub-contact's relative velocity is
+gathered and its force spread), ``subcontact_force`` is common.
+"""
+import math
+
+from numba import njit
+from numba.extending import overload
+
+from .layout import (JOINT_BEARING, JOINT_BRITTLE_COULOMB, JOINT_COUPLED, JOINT_ELASTIC, JOINT_FRICTION, JP_C,
+                     JP_FT, JP_KN, JP_KS, JP_SU, JP_TANPHI, JP_WU, JS_D, JS_SN, JS_SP, JS_T1, JS_T2, JS_WP)
+from .linalg import add_force, body_vec
+from .static import choose
+
+_INLINE = dict(cache=True, inline="always", error_model="numpy")
+
+
+@njit(**_INLINE)
+def joint_elastic(s, jp, js, dun, dus1, dus2):
+    """Linear springs: sigma_n += k_n du_n, tau += k_s du_s."""
+    js[s, JS_SN] += jp[s, JP_KN] * dun
+    js[s, JS_T1] += jp[s, JP_KS] * dus1
+    js[s, JS_T2] += jp[s, JP_KS] * dus2
+
+
+@njit(**_INLINE)
+def joint_bearing(s, jp, js, dun, dus1, dus2):
+    """Rigid bearing strip: compression-only normal spring, frictionless
+    (a roller): sigma_n = min(0, sigma_n + k_n du_n), tau = 0."""
+    sn = js[s, JS_SN] + jp[s, JP_KN] * dun
+    js[s, JS_SN] = sn if sn < 0.0 else 0.0
+
+
+@njit(**_INLINE)
+def _coulomb_return(s, jp, js, dun, dus1, dus2):
+    """Elastic trial, then tension cut-off and Coulomb slip with the current
+    (damaged) strengths f_t' = f_t (1-D), c' = c (1-D):
+      sigma_n > f_t'  ->  sigma_n = f_t', w_p += excess opening;
+      tau_max = max(0, c' - sigma_n tan(phi)); |tau| > tau_max -> scale tau
+      back, s_p += excess slip.
+    Returns True if the joint yielded."""
+    kn = jp[s, JP_KN]
+    ks = jp[s, JP_KS]
+    dmg = js[s, JS_D]
+    sn = js[s, JS_SN] + kn * dun
+    t1 = js[s, JS_T1] + ks * dus1
+    t2 = js[s, JS_T2] + ks * dus2
+    ft = jp[s, JP_FT] * (1.0 - dmg)
+    c = jp[s, JP_C] * (1.0 - dmg)
+    yielded = False
+    if sn > ft:
+        js[s, JS_WP] += (sn - ft) / kn
+        sn = ft
+        yielded = True
+    tmax = c - sn * jp[s, JP_TANPHI]
+    if tmax < 0.0:
+        tmax = 0.0
+    tt = math.sqrt(t1 * t1 + t2 * t2)
+    if tt > tmax:
+        js[s, JS_SP] += (tt - tmax) / ks
+        r = tmax / tt
+        t1 *= r
+        t2 *= r
+        yielded = True
+    js[s, JS_SN] = sn
+    js[s, JS_T1] = t1
+    js[s, JS_T2] = t2
+    return yielded
+
+
+@njit(**_INLINE)
+def joint_coupled(s, jp, js, dun, dus1, dus2):
+    """Coupled fracture-energy softening (solver.md, Joints):
+    d_t = w_p / w_u, w_u = 2 G_I / f_t;  d_s = s_p / s_u, s_u = 2 G_II / c;
+    D = 1 - (1 - d_t)(1 - d_s), never decreasing, at most 1.  Linear
+    softening of f_t and c with a shared damage; friction angle unchanged;
+    unloading elastic with the initial stiffness."""
+    if _coulomb_return(s, jp, js, dun, dus1, dus2):
+        wu = jp[s, JP_WU]
+        su = jp[s, JP_SU]
+        dt_ = 1.0
+        if wu > 0.0:
+            dt_ = min(js[s, JS_WP] / wu, 1.0)
+        elif js[s, JS_WP] == 0.0:
+            dt_ = 0.0
+        ds_ = 1.0
+        if su > 0.0:
+            ds_ = min(js[s, JS_SP] / su, 1.0)
+        elif js[s, JS_SP] == 0.0:
+            ds_ = 0.0
+        d = 1.0 - (1.0 - dt_) * (1.0 - ds_)
+        if d > js[s, JS_D]:
+            js[s, JS_D] = d
+
+
+@njit(**_INLINE)
+def joint_brittle_coulomb(s, jp, js, dun, dus1, dus2):
+    """Brittle Coulomb with tension cut-off: at the first yield in tension
+    or shear, f_t and c drop to zero (D = 1); friction remains."""
+    if _coulomb_return(s, jp, js, dun, dus1, dus2):
+        js[s, JS_D] = 1.0
+
+
+@njit(**_INLINE)
+def joint_friction(s, jp, js, dun, dus1, dus2):
+    """Dry contact: no tension, no cohesion, Coulomb friction, and a gap.
+    The total normal displacement e = w_p + sigma_n / k_n (opening
+    positive) is tracked: e > 0 is an open gap (w_p = e, sigma_n = 0, no
+    shear), e < 0 a penetration (sigma_n = k_n e).  Unlike the laws above,
+    whose unloading is elastic from wherever the joint stands, a joint that
+    opened must close its gap before it carries compression again (a
+    rocking block lifts off and lands).  Shear: elastic trial
+    tau += k_s du_s, |tau| <= -sigma_n tan(phi), excess slip into s_p."""
+    kn = jp[s, JP_KN]
+    e = js[s, JS_WP] + js[s, JS_SN] / kn + dun
+    if e > 0.0:
+        js[s, JS_WP] = e
+        js[s, JS_SN] = 0.0
+    else:
+        js[s, JS_WP] = 0.0
+        js[s, JS_SN] = kn * e
+    ks = jp[s, JP_KS]
+    t1 = js[s, JS_T1] + ks * dus1
+    t2 = js[s, JS_T2] + ks * dus2
+    tmax = -js[s, JS_SN] * jp[s, JP_TANPHI]
+    tt = math.sqrt(t1 * t1 + t2 * t2)
+    if tt > tmax:
+        js[s, JS_SP] += (tt - tmax) / ks
+        r = tmax / tt if tt > 0.0 else 0.0
+        t1 *= r
+        t2 *= r
+    js[s, JS_T1] = t1
+    js[s, JS_T2] = t2
+
+
+_JOINT_LAWS = {JOINT_ELASTIC: joint_elastic, JOINT_BRITTLE_COULOMB: joint_brittle_coulomb, JOINT_COUPLED: joint_coupled,
+               JOINT_FRICTION: joint_friction, JOINT_BEARING: joint_bearing}
+
+
+def joint_law(jlaw, s, jp, js, dun, dus1, dus2):
+    """The law ``jlaw`` (a literal id, chosen when the caller compiles:
+    static.py) on sub-contact s."""
+    raise TypeError("joint_law: only callable from compiled code")
+
+
+@overload(joint_law, prefer_literal=True, inline="always")
+def _joint_law(jlaw, s, jp, js, dun, dus1, dus2):
+    law = choose(_JOINT_LAWS, jlaw, "the joint law")
+    return lambda jlaw, s, jp, js, dun, dus1, dus2: law(s, jp, js, dun, dus1, dus2)
+
+
+@njit(**_INLINE)
+def subcontact_force(jlaw, s, dt, rx, ry, rz, n, t1, t2, sc):
+    """Sub-contact s of ``sc`` with relative velocity (rx, ry, rz) of side B
+    against side A and local axes n (A to B), t1, t2: the displacement
+    increments du = dt (v_B - v_A) in local axes go through the joint law;
+    returns the force area (sigma_n n + tau_1 t1 + tau_2 t2), which acts on
+    A (and its opposite on B)."""
+    nx, ny, nz = n
+    ax, ay, az = t1
+    bx, by, bz = t2
+    dun = dt * (rx * nx + ry * ny + rz * nz)
+    du1 = dt * (rx * ax + ry * ay + rz * az)
+    du2 = dt * (rx * bx + ry * by + rz * bz)
+    js = sc.state
+    joint_law(jlaw, s, sc.par, js, dun, du1, du2)
+    ar = sc.area[s]
+    sn = js[s, JS_SN]
+    s1 = js[s, JS_T1]
+    s2 = js[s, JS_T2]
+    return (ar * (sn * nx + s1 * ax + s2 * bx), ar * (sn * ny + s1 * ay + s2 * by),
+            ar * (sn * nz + s1 * az + s2 * bz))
+
+
+@njit(**_INLINE)
+def _deformable_contacts(jlaw, dt, nodes, sc):
+    """Deformable blocks: the sub-contact's point moves with the nodes of
+    each side, interpolated with the weights w[s]; its force is spread with
+    the same weights (so the virtual work is consistent)."""
+    v = nodes.v
+    f = nodes.f
+    cnt, w, ix, axes = sc.cnt, sc.w, sc.nodes, sc.axes
+    for s in range(sc.area.shape[0]):
+        rx = 0.0
+        ry = 0.0
+        rz = 0.0
+        for k in range(cnt[s, 0]):
+            nd = ix[s, k]
+            wk = w[s, k]
+            rx -= wk * v[nd, 0]
+            ry -= wk * v[nd, 1]
+            rz -= wk * v[nd, 2]
+        for k in range(4, 4 + cnt[s, 1]):
+            nd = ix[s, k]
+            wk = w[s, k]
+            rx += wk * v[nd, 0]
+            ry += wk * v[nd, 1]
+            rz += wk * v[nd, 2]
+        fx, fy, fz = subcontact_force(jlaw, s, dt, rx, ry, rz, (axes[s, 0], axes[s, 1], axes[s, 2]),
+                                      (axes[s, 3], axes[s, 4], axes[s, 5]), (axes[s, 6], axes[s, 7], axes[s, 8]), sc)
+        for k in range(cnt[s, 0]):
+            nd = ix[s, k]
+            wk = w[s, k]
+            f[nd, 0] += wk * fx
+            f[nd, 1] += wk * fy
+            f[nd, 2] += wk * fz
+        for k in range(4, 4 + cnt[s, 1]):
+            nd = ix[s, k]
+            wk = w[s, k]
+            f[nd, 0] -= wk * fx
+            f[nd, 1] -= wk * fy
+            f[nd, 2] -= wk * fz
+
+
+@njit(**_INLINE)
+def _rigid_contacts(jlaw, large, dt, nodes, bodies, sc):
+    """Rigid blocks: sub-contact s joins bodies A = body[s, 0] and
+    B = body[s, 1] at the point with body-frame levers lever[s, 0] and
+    lever[s, 1]; relative velocity (v_B + om_B x r_B) - (v_A + om_A x r_A),
+    r = R r0.  The axes are the initial ones for small displacements
+    (``large`` = 0) and turn with block A for large ones.  The force acts
+    on A at r_A (force and moment r_A x F) and its opposite on B at r_B."""
+    v, f = nodes.v, nodes.f
+    R, om, mom = bodies.R, bodies.om, bodies.mom
+    body, lever, axes = sc.body, sc.lever, sc.axes
+    for s in range(sc.area.shape[0]):
+        a = body[s, 0]
+        b = body[s, 1]
+        rax, ray, raz = body_vec(R, a, lever[s, 0, 0], lever[s, 0, 1], lever[s, 0, 2])
+        rbx, rby, rbz = body_vec(R, b, lever[s, 1, 0], lever[s, 1, 1], lever[s, 1, 2])
+        rx = (v[b, 0] + om[b, 1] * rbz - om[b, 2] * rby) - (v[a, 0] + om[a, 1] * raz - om[a, 2] * ray)
+        ry = (v[b, 1] + om[b, 2] * rbx - om[b, 0] * rbz) - (v[a, 1] + om[a, 2] * rax - om[a, 0] * raz)
+        rz = (v[b, 2] + om[b, 0] * rby - om[b, 1] * rbx) - (v[a, 2] + om[a, 0] * ray - om[a, 1] * rax)
+        if large:
+            n = body_vec(R, a, axes[s, 0], axes[s, 1], axes[s, 2])
+            t1 = body_vec(R, a, axes[s, 3], axes[s, 4], axes[s, 5])
+            t2 = body_vec(R, a, axes[s, 6], axes[s, 7], axes[s, 8])
+        else:
+            n = (axes[s, 0], axes[s, 1], axes[s, 2])
+            t1 = (axes[s, 3], axes[s, 4], axes[s, 5])
+            t2 = (axes[s, 6], axes[s, 7], axes[s, 8])
+        fx, fy, fz = subcontact_force(jlaw, s, dt, rx, ry, rz, n, t1, t2, sc)
+        add_force(f, mom, a, rax, ray, raz, fx, fy, fz)
+        add_force(f, mom, b, rbx, rby, rbz, -fx, -fy, -fz)
+
+
+def contact_forces(jlaw, rigid, large, dt, nodes, bodies, sc):
+    """Adds the forces of the sub-contacts ``sc`` under the law ``jlaw`` to
+    nodes.f (and, for rigid blocks, their moments to bodies.mom); ``jlaw``
+    and ``rigid`` are literals (static.py)."""
+    raise TypeError("contact_forces: only callable from compiled code")
+
+
+@overload(contact_forces, prefer_literal=True)
+def _contact_forces(jlaw, rigid, large, dt, nodes, bodies, sc):
+    if choose({0: False, 1: True}, rigid, "rigid"):
+        return lambda jlaw, rigid, large, dt, nodes, bodies, sc: _rigid_contacts(jlaw, large, dt, nodes, bodies, sc)
+    return lambda jlaw, rigid, large, dt, nodes, bodies, sc: _deformable_contacts(jlaw, dt, nodes, sc)

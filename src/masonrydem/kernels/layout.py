@@ -1,0 +1,170 @@
+"""Layouts shared by the kernels and the Python side: law ids, the columns
+of the parameter, state and history arrays, and the named containers of
+arrays that the kernels take.
+
+The containers are NamedTuples of numpy arrays (numba passes and caches
+them like tuples).  Each groups what one concept needs, structure of
+arrays: a row per node, tetrahedron or sub-contact.  A container that a
+model does not need holds empty arrays (``empty_*``), so that every kernel
+has one signature.
+
+Conventions: SI units, tension positive; zone stresses as
+(xx, yy, zz, xy, yz, zx).
+"""
+from typing import NamedTuple
+
+import numpy as np
+
+# --- law ids (the tables of laws.py name them) --------------------------------
+ZONE_NONE = -1          # rigid blocks: no zones
+ZONE_ELASTIC = 0
+ZONE_MOHR_COULOMB = 1
+
+JOINT_ELASTIC = 0
+JOINT_BRITTLE_COULOMB = 1
+JOINT_COUPLED = 2
+JOINT_BEARING = 3
+JOINT_FRICTION = 4
+
+# --- zone parameter / state columns (per tetrahedron) ------------------------
+ZP_K, ZP_G, ZP_FT, ZP_C, ZP_NPHI, ZP_GF = 0, 1, 2, 3, 4, 5
+N_ZP = 6
+ZS_EPT, ZS_EULT, ZS_H = 0, 1, 2  # plastic tensile strain, its ultimate value, crack band width
+N_ZS = 3
+
+# --- joint parameter / state columns (per sub-contact) ----------------------
+JP_KN, JP_KS, JP_FT, JP_C, JP_TANPHI, JP_WU, JP_SU = 0, 1, 2, 3, 4, 5, 6
+N_JP = 7
+JS_SN, JS_T1, JS_T2, JS_WP, JS_SP, JS_D = 0, 1, 2, 3, 4, 5
+N_JS = 6
+
+# --- history: one row per step ----------------------------------------------
+# step number, unbalanced-force ratio, kinetic energy, then per monitor
+# group g its force (column H_MON + 2 g) and displacement (H_MON + 2 g + 1)
+H_STEP, H_RATIO, H_KE, H_MON = 0, 1, 2, 3
+
+
+def h_force(g):
+    """History column of monitor group g's force (its reaction)."""
+    return H_MON + 2 * g
+
+
+def h_disp(g):
+    """History column of monitor group g's mean displacement."""
+    return H_MON + 2 * g + 1
+
+
+def h_width(ngroups):
+    return H_MON + 2 * ngroups
+
+
+# status codes returned by the step kernel
+ST_OK = 0
+ST_NONFINITE = 1
+
+
+class Nodes(NamedTuple):
+    """Per node of the deformable blocks, or per rigid body (its reference
+    point, the centroid); the strips (rigid bearing plates) follow as one
+    node each."""
+    x0: np.ndarray      # (n, 3) initial position
+    u: np.ndarray       # (n, 3) displacement
+    v: np.ndarray       # (n, 3) velocity
+    f: np.ndarray       # (n, 3) force of the last step (on prescribed components: the reaction)
+    mass: np.ndarray    # (n,) inertial mass (scaled in quasi-static mode)
+    mgrav: np.ndarray   # (n,) physical mass, which gravity loads
+    fixed: np.ndarray   # (n, 3) uint8: the component's velocity is prescribed
+    vpres: np.ndarray   # (n, 3) prescribed velocity (times the velocity factor)
+    fext: np.ndarray    # (n, 3) applied force, times the load factor (deformable blocks)
+
+
+class Zones(NamedTuple):
+    """Constant-strain tetrahedra and their mixed-discretization groups."""
+    tets: np.ndarray    # (nt, 4) node indices
+    dn: np.ndarray      # (nt, 9) grad N_1, grad N_2, grad N_3 (grad N_0 = -sum)
+    vol: np.ndarray     # (nt,) volume
+    wt: np.ndarray      # (nt,) weight (1/2 for the two overlays of a cell)
+    gptr: np.ndarray    # (ng + 1,) tetrahedra of group g: gptr[g]:gptr[g + 1]
+    gnodes: np.ndarray  # nodes of the group's cell (crack band width) ...
+    gnptr: np.ndarray   # ... gnodes[gnptr[g]:gnptr[g + 1]]
+    par: np.ndarray     # (nt, N_ZP) law parameters
+    state: np.ndarray   # (nt, N_ZS) law state
+    stress: np.ndarray  # (nt, 6)
+
+
+class Contacts(NamedTuple):
+    """Sub-contacts (joints, or the strips' bearings).  Sub-contact s joins
+    side A and side B at one point: on deformable blocks interpolated from
+    nodes[s, 0:cnt[s, 0]] (A) and nodes[s, 4:4 + cnt[s, 1]] (B) with the
+    weights w[s]; on rigid blocks bodies body[s] with body-frame levers
+    lever[s] from their reference points.  axes[s] = (n, t1, t2), n from A
+    to B."""
+    nodes: np.ndarray   # (n, 8)
+    cnt: np.ndarray     # (n, 2)
+    w: np.ndarray       # (n, 8)
+    body: np.ndarray    # (n, 2)    rigid blocks (else empty)
+    lever: np.ndarray   # (n, 2, 3) rigid blocks (else empty)
+    axes: np.ndarray    # (n, 9)
+    area: np.ndarray    # (n,)
+    par: np.ndarray     # (n, N_JP) law parameters
+    state: np.ndarray   # (n, N_JS) tractions and law state
+
+
+class Bodies(NamedTuple):
+    """Rotations of rigid bodies (rows as Nodes) and their point loads."""
+    R: np.ndarray           # (n, 3, 3) orientation, body to global
+    om: np.ndarray          # (n, 3) angular velocity (global axes)
+    mom: np.ndarray         # (n, 3) moment of the last step
+    iinv: np.ndarray        # (n, 3, 3) inverse inertia (body frame)
+    rfixed: np.ndarray      # (n, 3) uint8: rotation component prescribed
+    ompres: np.ndarray      # (n, 3) prescribed angular velocity
+    rlen: np.ndarray        # (n,) lever scale (half the diagonal) for the force ratio
+    fl: np.ndarray          # (n, 3) point loads summed per body, this step
+    load_body: np.ndarray   # (k,) point load k acts on this body ...
+    load_lever: np.ndarray  # (k, 3) ... at this body-frame lever ...
+    load_force: np.ndarray  # (k, 3) ... with this force (times the load factor)
+
+
+class Monitors(NamedTuple):
+    """Monitored components: node (or body) nodes[k], component dof[k],
+    summed into monitor group group[k]."""
+    nodes: np.ndarray
+    dof: np.ndarray
+    group: np.ndarray
+
+
+class Scratch(NamedTuple):
+    """Work space of the zone kernel."""
+    de: np.ndarray       # (group size, 6) strain increments of a group
+    ev: np.ndarray       # (group size,) their volumetric parts
+    pending: np.ndarray  # (nt, 2) zones that may yield: (tetrahedron, group)
+    a: np.ndarray        # (3, 3) eigenvalues (diagonal)
+    evec: np.ndarray     # (3, 3) eigenvectors (columns)
+
+
+class Controls(NamedTuple):
+    """Scalars of one chunk of steps."""
+    step0: int          # steps done before the chunk (history step numbers)
+    dt: float
+    alpha: float        # local damping
+    lf: float           # load factor (applied forces)
+    vf0: float          # velocity factor before the chunk ...
+    dvf: float          # ... and its increment per step (a ramp, capped at 1)
+    gravity: np.ndarray  # (3,)
+
+
+def empty_zones():
+    z = np.zeros
+    return Zones(z((0, 4), np.int64), z((0, 9)), z(0), z(0), z(1, np.int64), z(0, np.int64), z(1, np.int64),
+                 z((0, N_ZP)), z((0, N_ZS)), z((0, 6)))
+
+
+def empty_bodies():
+    z = np.zeros
+    return Bodies(z((0, 3, 3)), z((0, 3)), z((0, 3)), z((0, 3, 3)), z((0, 3), np.uint8), z((0, 3)), z(0),
+                  z((0, 3)), z(0, np.int64), z((0, 3)), z((0, 3)))
+
+
+def empty_scratch():
+    z = np.zeros
+    return Scratch(z((1, 6)), z(1), z((1, 2), np.int64), z((3, 3)), z((3, 3)))

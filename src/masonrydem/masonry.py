@@ -1,0 +1,71 @@
+"""Masonry rules shared by the scenes, the study and its analysis: the
+modelled unit, the running bond, the joint stiffness from the unit's
+modulus, the fracture-energy rules and the flexural strength.
+
+These are the rules of the study's description (docs/, "The study"),
+written once here so that the specimen builder, the sampled scenes and the
+regression all use the same numbers.
+"""
+import numpy as np
+
+# G_I (N/m) per f_tj (Pa): 0.03 N/mm per MPa
+GI_PER_FT = 0.03 * 1e3 / 1e6
+# G_fu = 0.04 f_tu^0.7 (N/mm with f_tu in MPa)
+GF_COEFFICIENT, GF_EXPONENT = 0.04, 0.7
+
+
+def unit_fracture_energy(f_tu, coefficient=GF_COEFFICIENT, exponent=GF_EXPONENT):
+    """G_fu = coefficient f_tu^exponent (N/mm, f in MPa), returned in N/m
+    for f_tu in Pa."""
+    return 1e3 * coefficient * (np.asarray(f_tu, float) / 1e6) ** exponent
+
+
+def joint_kn(E_b, Em_ratio, t):
+    """Normal stiffness of a zero-thickness joint standing for a mortar
+    layer of thickness t between units of modulus E_b:
+    k_n = E_b E_m / (t (E_b - E_m)), E_m = Em_ratio E_b."""
+    E_m = Em_ratio * E_b
+    return E_b * E_m / (t * (E_b - E_m))
+
+
+def modelled_unit(geometry):
+    """Modelled unit (brick + half a joint on each side in length and
+    height; no joint through the thickness): (length, width, height)."""
+    u, t = geometry["unit"], geometry["joint_thickness"]
+    return u["length"] + t, u["width"], u["height"] + t
+
+
+def bond_overlap(geometry):
+    """l_o: the overlap of units in successive courses (bond offset x the
+    modelled unit's length)."""
+    return geometry["bond_offset"] * modelled_unit(geometry)[0]
+
+
+def course_span(geometry, k):
+    """x-range of course k (odd courses shifted by the bond offset)."""
+    L = modelled_unit(geometry)[0]
+    x0 = geometry["bond_offset"] * L if k % 2 else 0.0
+    return x0, x0 + geometry["units_per_course"] * L
+
+
+def wall_length(geometry):
+    """Overall length of the running-bond wall (the courses together)."""
+    L = modelled_unit(geometry)[0]
+    return L * (geometry["units_per_course"] + (geometry["bond_offset"] if geometry["courses"] > 1 else 0))
+
+
+def running_bond_joints(courses, per_course):
+    """Joints numbered as contact planes: the head joints course by course
+    (per_course - 1 per course), then one bed-joint plane under each unit
+    of courses 1.. (a plane may touch one or two units below).  Returns a
+    list of (kind, unit) with unit = (course, index) of the unit to the
+    left of a head joint or above a bed plane."""
+    head = [("head", (k, i)) for k in range(courses) for i in range(per_course - 1)]
+    bed = [("bed", (k, i)) for k in range(1, courses) for i in range(per_course)]
+    return head + bed
+
+
+def flexural_strength(P, shear_span, section_height, thickness):
+    """Four-point bending: sigma = 6 M / (b h^2), M = P/2 a (P the total
+    load, a the shear span, b the section height, h the thickness)."""
+    return 6.0 * (0.5 * shear_span * P) / (section_height * thickness * thickness)
