@@ -145,7 +145,7 @@ def test_full_study_plans_1000_simulations(tmp_path):
 def test_full_study_plans_on_slurm(tmp_path):
     """The cluster profile (snakemake-executor-plugin-slurm, simulations
     grouped 50 per cluster job) plans the full DAG (dry run)."""
-    r = subprocess.run(SNAKEMAKE + ["-n", "--profile", "workflow/profiles/slurm", "--default-resources",
+    r = subprocess.run(SNAKEMAKE + ["-n", "--profile", "profiles/slurm", "--default-resources",
                                     "slurm_partition=test", "--config", f"results={tmp_path}"],
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stderr[-2000:]
@@ -174,3 +174,16 @@ def test_a_simulation_that_raises_is_recorded(tmp_path):
     s0 = nonspatial.iloc[0]
     assert (row.f_tj_mpa, row.f_tu_mpa, row.E_b_mpa, row.phi_j_deg) == (-0.1, s0.f_tu / 1e6, s0.E_b / 1e6, s0.phi_j)
     assert len(pd.read_parquet(target.with_name("s0_curve.parquet"))) == 0
+
+
+def test_lint_gives_only_the_software_advice(tmp_path):
+    """`snakemake --lint` finds nothing but its advice to give each rule a
+    conda environment or container (the package installs with pip into
+    .venv: README, Set-up), one per rule that runs a script: no path
+    composed with '+', no absolute path, every such rule with a log."""
+    r = subprocess.run(SNAKEMAKE + ["--lint", "--config", f"results={tmp_path}"], capture_output=True, text=True)
+    out = r.stdout + r.stderr
+    findings = [x.strip() for x in out.splitlines() if x.startswith("    * ")]
+    rules = [x for x in out.splitlines() if x.startswith("Lints for rule ")]
+    assert findings and len(findings) == len(rules), out[-3000:]
+    assert all(f.startswith("* Specify a conda environment or container") for f in findings), findings

@@ -99,12 +99,39 @@ def power_fit(x, y):
     return float(np.exp(loga)), float(k)
 
 
+def scaling(units, runs, settings):
+    """Run time, time per step and tetrahedra against the number of units
+    (``units``: the scaling runs' rows with their wallettes' 'courses')
+    and against cells per unit edge (the ok runs of the first case in the
+    sweep table ``runs`` at the grid ``settings``), each fitted with a
+    power law.  Returns (table, tables, fits): one row per fit with its
+    points; the two tables ('units', 'cells') with 'us_per_step'; (against,
+    quantity) -> (a, k)."""
+    first = runs.case.iloc[0]
+    cells = runs[(runs.case == first) & runs.setting.isin(settings) & runs.ok]
+    tables = {"units": units.copy(), "cells": cells.sort_values("cells_n").assign(cells=lambda t: t.cells_n)}
+    rows, fits = [], {}
+    for name, t in tables.items():
+        t["us_per_step"] = t.wall_time_s / t.steps * 1e6
+        for col in ("wall_time_s", "us_per_step", "tets"):
+            a, k = power_fit(t[name], t[col])
+            fits[(name, col)] = (a, k)
+            rows.append(dict(against=name, quantity=col, exponent=k, coefficient=a,
+                             points=" ".join(f"{xx:g}:{yy:.4g}" for xx, yy in zip(t[name], t[col]))))
+    return pd.DataFrame(rows), tables, fits
+
+
+def paired(default, fine):
+    """The same samples run with the default and with the fine settings,
+    one row per sample and level, columns suffixed _default and _fine."""
+    return default.merge(fine, on=["sigma_v_mpa", "sample"], suffixes=("_default", "_fine"))
+
+
 def compare_subsample(default, fine):
     """Mean and COV of P_max and failure-mode counts of the same samples run
     with the default and the fine settings, per sigma_v (runs that are not
     ok in either are excluded and counted)."""
-    keys = ["sigma_v_mpa", "sample"]
-    m = default.merge(fine, on=keys, suffixes=("_default", "_fine"))
+    m = paired(default, fine)
     rows = []
     for sv, g in m.groupby("sigma_v_mpa"):
         good = g[g.ok_default & g.ok_fine]
@@ -145,3 +172,20 @@ def sweep_table(rows, cases, path, band=0.01):
         t.loc[t.case == case, "mode_ok"] = c.failure_mode == finest.failure_mode
     t["mode_ok"] = t["mode_ok"].astype(bool)
     return t, pd.DataFrame(conv)
+
+
+def judged_cases(conv):
+    """The cases with a converged reference (the others cannot judge a setting)."""
+    return list(conv.case[~conv.method.str.startswith("NOT CONVERGED")])
+
+
+def choose(table, conv, tolerance):
+    """Per setting, over the judged cases: the knee among the mesh settings
+    (the grid) and the defaults beside them (knee False), by cost, with a
+    'default' column."""
+    judge = table[table.case.isin(judged_cases(conv))]
+    choice = knee(judge[judge.grid], tolerance)
+    default = knee(judge[judge.setting == "default"], tolerance).assign(knee=False)
+    choice = pd.concat([choice, default], ignore_index=True).sort_values("total_time_s", kind="stable")
+    choice["default"] = choice.setting == "default"
+    return choice

@@ -217,3 +217,97 @@ def as3700(f_mt, f_ut, f_d):
     stepped = np.minimum(2.0 * np.sqrt(f_mt) * (1.0 + f_d / f_mt), 4.0 * np.sqrt(f_mt))
     line = np.full_like(f_d, 0.44 * f_ut + 0.56 * f_mt)
     return stepped, line
+
+
+# --- the prediction against the simulations and the design rules -------------------
+def scatter_level(runs, near=0.25):
+    """The precompression level of the scatter plot: the one nearest ``near`` MPa."""
+    levels = np.sort(runs.sigma_v_mpa.unique())
+    return levels[np.argmin(np.abs(levels - near))]
+
+
+def prediction_equations(ns):
+    """Per failure mode, the equation fitted to the runs ``ns`` (the ok
+    non-spatial runs) when they span MIN_GROUPS samples; then the
+    predictor, the lower of the two (with one equation it stands for both),
+    scored on every run of ``ns``.  Returns (fits, rows, residual_sd):
+    mode -> (equation, simulated strengths); the equations table's rows;
+    the standard deviation of the predictor's residuals (MPa)."""
+    fits, rows = {}, []
+    for mode in ("joint", "brick"):
+        g = ns[ns.failure_mode == mode]
+        if g["sample"].nunique() < MIN_GROUPS:
+            rows.append(dict(mode=mode, n=len(g), equation=f"too few runs to fit ({g['sample'].nunique()} samples, "
+                                                              f"the nested 5-fold CV needs {MIN_GROUPS})"))
+            continue
+        eq = fit_equation(g.f_tu_mpa, g.f_tj_mpa, g.sigma_v_mpa, g.strength_mpa, g["sample"])
+        fits[mode] = (eq, g.strength_mpa.to_numpy())
+        rows.append(dict(mode=mode, n=eq["n"], alpha=eq["alpha"], mape_pct=eq["mape"], cv_mape_pct=eq["cv_mape"],
+                         intercept=eq["intercept"], **eq["coef"], equation=equation_text(eq)))
+    resid_sd = np.nan
+    if fits:
+        low, low_mode = lower_of_two(*_pair(fits), ns.f_tu_mpa, ns.f_tj_mpa, ns.sigma_v_mpa)
+        resid_sd = float(np.std(ns.strength_mpa - low, ddof=1))
+        rows.append(dict(mode="lower of two", n=len(ns), mape_pct=mape(ns.strength_mpa, low),
+                         mode_agreement=float(np.mean(low_mode == ns.failure_mode.to_numpy())),
+                         residual_sd_mpa=resid_sd,
+                         equation="min(joint, brick)" if len(fits) == 2 else f"the {next(iter(fits))} equation alone"))
+    return fits, rows, resid_sd
+
+
+def _pair(fits):
+    """The joint and the brick equation; with one, it stands for both."""
+    eqs = {m: e for m, (e, _) in fits.items()}
+    return eqs.get("joint", eqs.get("brick")), eqs.get("brick", eqs.get("joint"))
+
+
+def mean_strengths():
+    """f_tu and f_tj (MPa) at the means of their distributions."""
+    mean = {v.name: v.mean for v in STUDY_VARIABLES}
+    return mean["f_tu"] / 1e6, mean["f_tj"] / 1e6
+
+
+def wallette_geometry(scene):
+    """What the design rules need of the scene (m): the overlap l_o = bond
+    offset x modelled unit length, the height h_b of a modelled unit (unit +
+    joint) and the joints' c_ratio (c_j = c_ratio f_tj)."""
+    geo = scene["geometry"]
+    return dict(l_o=geo["bond_offset"] * (geo["unit"]["length"] + geo["joint_thickness"]),
+                h_b=geo["unit"]["height"] + geo["joint_thickness"], c_ratio=scene["materials"]["joints"]["c_ratio"])
+
+
+def design_table(fits, ns, resid_sd, levels, geometry):
+    """Against the precompression ``levels``: the lower-of-two prediction
+    at the mean properties with a band of one standard deviation, which
+    combines the scatter of the prediction over the sampled properties
+    (f_tu, f_tj of the samples of ``ns``) with the residual scatter the
+    equations leave (phi_j, E_b and the misfit); the prediction's mean over
+    the samples; the Lourenco-Gaetani and AS3700 rules at the mean
+    properties (AS3700 f_mt from f_tj, the flexural bond ~ the joint's
+    tensile bond, f_ut from f_tu).  NaN predictions without an equation."""
+    f_tu, f_tj = mean_strengths()
+    pred = band = prop_sd = prop_mean = np.full_like(levels, np.nan)
+    if fits:
+        joint, brick = _pair(fits)
+        pred, _ = lower_of_two(joint, brick, np.full_like(levels, f_tu), np.full_like(levels, f_tj), levels)
+        props = ns.drop_duplicates("sample")            # the properties of every sample with an ok run
+        prop_mean, prop_sd = prediction_over_samples(joint, brick, props.f_tu_mpa, props.f_tj_mpa, levels)
+        band = np.sqrt(prop_sd ** 2 + resid_sd ** 2)
+    lg = lourenco_gaetani(geometry["c_ratio"] * f_tj, f_tu, geometry["l_o"], geometry["h_b"])
+    as_stepped, as_line = as3700(f_tj, f_tu, levels)
+    return pd.DataFrame(dict(sigma_v_mpa=levels, prediction=pred, band_sd=band, property_sd=prop_sd,
+                             mean_over_samples=prop_mean, lg_stepped=lg[0], lg_brick=lg[1], as3700_stepped=as_stepped,
+                             as3700_line=as_line))
+
+
+def typical_run(runs, variant, mode):
+    """The run to picture for a variant and failure mode: at the level where
+    the mode is most frequent among the ok runs, the run nearest the
+    median P_max of the mode there.  Returns (run, the mode's runs at that
+    level), or (None, None) when no run failed in that mode."""
+    group = runs[(runs.variant == variant) & (runs.failure_mode == mode) & runs.ok]
+    if group.empty:
+        return None, None
+    sv = group.sigma_v_mpa.value_counts().sort_index().idxmax()
+    at = group[group.sigma_v_mpa == sv]
+    return at.iloc[(at.P_max_kN - at.P_max_kN.median()).abs().argmin()], at

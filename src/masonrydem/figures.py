@@ -131,22 +131,25 @@ def predicted_vs_simulated(fits, path):
     _save(fig, path)
 
 
-def design_comparison(levels, pred, band, mean_pred, lg, as_stepped, as_line, simulated, path):
-    """Lower-of-two prediction at mean properties with a +-1 SD band against
-    sigma_v, its mean over the sampled properties (``mean_pred``), beside
-    the Lourenco-Gaetani and AS3700 rules and the simulated strengths
-    (``simulated``: levels, means, standard deviations)."""
+def design_comparison(design, simulated, path):
+    """The design table (analysis.design_table) against sigma_v: the
+    lower-of-two prediction at mean properties with a +-1 SD band, its mean
+    over the sampled properties, the Lourenco-Gaetani and AS3700 rules,
+    beside the simulated strengths (``simulated``: mean and std by
+    sigma_v_mpa)."""
+    levels = design.sigma_v_mpa
+    pred, band = design.prediction, design.band_sd
     fig, ax = plt.subplots(figsize=(10, 4.5))
     ax.plot(levels, pred, "k-", lw=2, label="prediction at mean properties (lower of two)")
     ax.fill_between(levels, pred - band, pred + band, color="k", alpha=0.15,
                     label="+- 1 SD of the prediction over the samples")
-    ax.plot(levels, mean_pred, "k--", lw=1.2, label="mean of the prediction over the samples")
-    ax.plot(levels, np.full_like(levels, lg[0]), "--", color="tab:blue", label="Lourenco-Gaetani stepped")
-    ax.plot(levels, np.full_like(levels, lg[1]), "--", color="tab:red", label="Lourenco-Gaetani brick")
-    ax.plot(levels, as_stepped, ":", color="tab:blue", lw=2, label="AS3700 stepped")
-    ax.plot(levels, as_line, ":", color="tab:red", lw=2, label="AS3700 line")
-    sv, mean, sd = simulated
-    ax.errorbar(sv, mean, yerr=sd, fmt="o", color="tab:green", capsize=3, label="simulated mean +- 1 SD (non-spatial)")
+    ax.plot(levels, design.mean_over_samples, "k--", lw=1.2, label="mean of the prediction over the samples")
+    ax.plot(levels, design.lg_stepped, "--", color="tab:blue", label="Lourenco-Gaetani stepped")
+    ax.plot(levels, design.lg_brick, "--", color="tab:red", label="Lourenco-Gaetani brick")
+    ax.plot(levels, design.as3700_stepped, ":", color="tab:blue", lw=2, label="AS3700 stepped")
+    ax.plot(levels, design.as3700_line, ":", color="tab:red", lw=2, label="AS3700 line")
+    ax.errorbar(simulated.index, simulated["mean"], yerr=simulated["std"], fmt="o", color="tab:green", capsize=3,
+                label="simulated mean +- 1 SD (non-spatial)")
     ax.set_xlabel("sigma_v (MPa)")
     ax.set_ylabel("strength (MPa)")
     ax.grid(alpha=0.3)
@@ -228,9 +231,11 @@ def accuracy_scaling(units, cells, fits, path):
     _save(fig, path)
 
 
-def accuracy_subsample(merged, path):
-    """P_max of the same samples at default against fine settings, by
-    precompression; the marker says whether the failure mode agrees."""
+def accuracy_subsample(paired, path):
+    """P_max of the same samples at default against fine settings
+    (accuracy.paired; runs ok in both), by precompression; the marker says
+    whether the failure mode agrees."""
+    merged = paired[paired.ok_default & paired.ok_fine]
     fig, ax = plt.subplots(figsize=(5.5, 5))
     for sv, g in merged.groupby("sigma_v_mpa"):
         same = g.failure_mode_default == g.failure_mode_fine
@@ -248,17 +253,10 @@ def accuracy_subsample(merged, path):
     _save(fig, path)
 
 
-def write_caption(template, path, **values):
-    """A report caption: the text of ``template`` (reStructuredText with
-    str.format fields) filled with the numbers a rule found."""
-    from pathlib import Path
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    Path(path).write_text(Path(template).read_text().format(**values))
-
-
-def write_captions(templates, outputs, values):
-    """Captions of one rule: template i (workflow/report/NAME.rst) filled
-    with values[NAME] and written to outputs[i]."""
-    from pathlib import Path
-    for t, o in zip(templates, outputs):
-        write_caption(t, o, **values.get(Path(t).stem, {}))
+def placeholder(text, path):
+    """A picture that says why there is none."""
+    fig, ax = plt.subplots(figsize=(8, 2))
+    ax.axis("off")
+    ax.text(0.5, 0.5, text, ha="center", va="center")
+    fig.savefig(path)
+    plt.close(fig)

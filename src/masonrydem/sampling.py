@@ -122,3 +122,18 @@ def sample_inputs(sample):
     variant.  For the row of a run that failed before its specimen existed."""
     return dict(E_b_mpa=float(np.mean(sample["E_b"])) / 1e6, f_tu_mpa=float(np.mean(sample["f_tu"])) / 1e6,
                 f_tj_mpa=float(np.mean(sample["f_tj"])) / 1e6, phi_j_deg=float(np.mean(sample["phi_j"])))
+
+
+def sampling_check(nonspatial, achieved, variables=STUDY_VARIABLES):
+    """The non-spatial sample against its targets: per variable its
+    distribution, target and sample mean and COV, and its row of the
+    achieved correlation matrix (columns corr_<name>)."""
+    import pandas as pd
+    names = [v.name for v in variables]
+    rows = []
+    for k, v in enumerate(variables):
+        x = nonspatial[v.name]
+        rows.append(dict(variable=v.name, distribution=v.dist, mean_target=v.mean, mean_sample=x.mean(),
+                         cov_target=v.cov, cov_sample=x.std(ddof=1) / x.mean(),
+                         **{f"corr_{n}": achieved[k, j] for j, n in enumerate(names)}))
+    return pd.DataFrame(rows)

@@ -4,6 +4,8 @@ mesh."""
 import numpy as np
 import pandas as pd
 
+from .plan import hard_case_jobs  # noqa: F401  (its old home: tests/test_stability.py imports it from here)
+
 
 def initial_stiffness(curve, lo=0.1, hi=0.4):
     """Slope (kN/mm) of a straight line fitted to the pre-peak points of the
@@ -56,24 +58,12 @@ def figure(table, curves, path):
     plt.close(fig)
 
 
-def hard_case_jobs(config):
-    """Run id -> scene overrides (after config 'numerics') of the hard cases
-    (config 'hard_cases', issue 6) and of their half-rate reruns
-    ('<name>_half_rate', overrides config 'half_rate')."""
-    jobs = {}
-    for c in config.get("hard_cases", []):
-        jobs[c["name"]] = list(c["overrides"])
-        if c.get("half_rate"):
-            jobs[c["name"] + "_half_rate"] = list(c["overrides"]) + list(config["half_rate"])
-    return jobs
-
-
-def hard_cases_table(results, config):
+def hard_cases_table(results, expect):
     """One row per hard-case run (results: run id -> result row): outcome,
     peak, steps and the unbalanced-force ratio at the peak; whether the
-    failure mode is the one the strengths call for ('expect'); for a
-    half-rate rerun the change of P_max against its case."""
-    expect = {c["name"]: c["expect"] for c in config["hard_cases"]}
+    failure mode is the one the strengths call for (``expect``: case ->
+    'joint', 'brick' or 'any'); for a half-rate rerun the change of P_max
+    against its case."""
     rows = []
     for run, r in results.items():
         case = run.removesuffix("_half_rate")

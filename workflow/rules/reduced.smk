@@ -13,13 +13,13 @@ rule reduced_run:
     input:
         scene=config["scene"],
     output:
-        result=R + "/reduced/runs/{case}_{model}/result.parquet",
-        curve=R + "/reduced/runs/{case}_{model}/curve.parquet",
+        result=f"{R}/reduced/runs/{{case}}_{{model}}/result.parquet",
+        curve=f"{R}/reduced/runs/{{case}}_{{model}}/curve.parquet",
     params:
-        overrides=lambda w: effective(config["numerics"], reduced_cases()[w.case], config["reduced"]["models"][w.model]),
+        overrides=get_reduced_overrides,
         solver=get_solver_hash(),
     log:
-        R + "/logs/reduced/{case}_{model}.log",
+        f"{R}/logs/reduced/{{case}}_{{model}}.log",
     threads: 1
     script:
         "../scripts/run.py"
@@ -28,15 +28,15 @@ rule reduced_run:
 rule reduced:
     """The table of the reduced models: P_max and run time against the full model."""
     input:
-        results=expand(R + "/reduced/runs/{case}_{model}/result.parquet", case=reduced_cases(),
-                       model=config["reduced"]["models"] if "reduced" in config else []),
-        template=template("reduced"),
+        results=get_reduced_results(),
+        template=get_template("reduced"),
     output:
-        table=report(R + "/reduced/summary.csv", caption=caption("reduced"), category="Reduced models"),
-        caption=caption("reduced"),
+        table=report(f"{R}/reduced/summary.csv", caption=get_caption("reduced"), category="Reduced models"),
+        caption=get_caption("reduced"),
     params:
-        tolerance=config["reduced"]["tolerance"] if "reduced" in config else None,
+        runs=plan.reduced_runs(config),
+        tolerance=config.get("reduced", {}).get("tolerance"),
     log:
-        R + "/logs/reduced/summary.log",
+        f"{R}/logs/reduced/summary.log",
     script:
         "../scripts/reduced.py"

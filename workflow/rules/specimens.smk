@@ -6,15 +6,15 @@
 rule specimen_run:
     """One specimen case: its scene with its overrides."""
     input:
-        scene=lambda w: specimen_cases()[w.case]["scene"],
+        scene=get_specimen_scene,
     output:
-        result=R + "/specimens/runs/{case}/result.parquet",
-        curve=R + "/specimens/runs/{case}/curve.parquet",
+        result=f"{R}/specimens/runs/{{case}}/result.parquet",
+        curve=f"{R}/specimens/runs/{{case}}/curve.parquet",
     params:
-        overrides=lambda w: specimen_cases()[w.case]["overrides"],
+        overrides=get_specimen_overrides,
         solver=get_solver_hash(),
     log:
-        R + "/logs/specimens/{case}.log",
+        f"{R}/logs/specimens/{{case}}.log",
     threads: 1
     script:
         "../scripts/run.py"
@@ -23,17 +23,17 @@ rule specimen_run:
 rule specimens:
     """The specimens' responses against the closed forms they have."""
     input:
-        results=expand(R + "/specimens/runs/{case}/result.parquet", case=specimen_cases()),
-        curves=expand(R + "/specimens/runs/{case}/curve.parquet", case=specimen_cases()),
-        scenes=[c["scene"] for c in specimen_cases().values()],
-        template=template("specimens"),
+        results=expand(f"{R}/specimens/runs/{{case}}/result.parquet", case=plan.specimen_cases(config)),
+        curves=expand(f"{R}/specimens/runs/{{case}}/curve.parquet", case=plan.specimen_cases(config)),
+        scenes=[c["scene"] for c in plan.specimen_cases(config).values()],
+        template=get_template("specimens"),
     output:
-        table=report(R + "/specimens/summary.csv", caption=caption("specimens"), category="Specimens"),
-        figure=report(R + "/specimens/response.png", caption=caption("specimens"), category="Specimens"),
-        caption=caption("specimens"),
+        table=report(f"{R}/specimens/summary.csv", caption=get_caption("specimens"), category="Specimens"),
+        figure=report(f"{R}/specimens/response.png", caption=get_caption("specimens"), category="Specimens"),
+        caption=get_caption("specimens"),
     params:
-        cases=specimen_cases(),
+        cases=plan.specimen_cases(config),
     log:
-        R + "/logs/specimens/summary.log",
+        f"{R}/logs/specimens/summary.log",
     script:
         "../scripts/specimens.py"

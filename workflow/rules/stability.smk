@@ -1,6 +1,3 @@
-from masonrydem.validation import hard_case_jobs
-
-
 wildcard_constraints:
     hard="[A-Za-z0-9_.]+",
 
@@ -10,13 +7,13 @@ rule hard_case_run:
     input:
         scene=config["scene"],
     output:
-        result=R + "/stability/runs/{hard}/result.parquet",
-        curve=R + "/stability/runs/{hard}/curve.parquet",
+        result=f"{R}/stability/runs/{{hard}}/result.parquet",
+        curve=f"{R}/stability/runs/{{hard}}/curve.parquet",
     params:
-        overrides=lambda wildcards: effective(config["numerics"], hard_case_jobs(config)[wildcards.hard]),
+        overrides=get_hard_case_overrides,
         solver=get_solver_hash(),
     log:
-        R + "/logs/stability/{hard}.log",
+        f"{R}/logs/stability/{{hard}}.log",
     threads: 1
     script:
         "../scripts/run.py"
@@ -25,13 +22,16 @@ rule hard_case_run:
 rule hard_cases:
     """The hard-cases table of the report."""
     input:
-        results=expand(R + "/stability/runs/{hard}/result.parquet", hard=hard_case_jobs(config)),
-        template=template("hard_cases"),
+        results=expand(f"{R}/stability/runs/{{hard}}/result.parquet", hard=plan.hard_case_jobs(config)),
+        template=get_template("hard_cases"),
     output:
-        table=report(R + "/stability/hard_cases.csv", caption=caption("hard_cases"), category="Stability"),
-        caption=caption("hard_cases"),
+        table=report(f"{R}/stability/hard_cases.csv", caption=get_caption("hard_cases"), category="Stability"),
+        caption=get_caption("hard_cases"),
+    params:
+        runs=list(plan.hard_case_jobs(config)),
+        expect=plan.hard_case_expect(config),
     log:
-        R + "/logs/stability/hard_cases.log",
+        f"{R}/logs/stability/hard_cases.log",
     script:
         "../scripts/hard_cases.py"
 

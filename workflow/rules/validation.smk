@@ -10,14 +10,14 @@ rule validation_run:
     input:
         scene=config["scene"],
     output:
-        result=R + "/validation/runs/{case}_sv{sv}/result.parquet",
-        curve=R + "/validation/runs/{case}_sv{sv}/curve.parquet",
-        state=R + "/validation/runs/{case}_sv{sv}/state.vtm",
+        result=f"{R}/validation/runs/{{case}}_sv{{sv}}/result.parquet",
+        curve=f"{R}/validation/runs/{{case}}_sv{{sv}}/curve.parquet",
+        state=f"{R}/validation/runs/{{case}}_sv{{sv}}/state.vtm",
     params:
         overrides=get_validation_overrides,
         solver=get_solver_hash(),
     log:
-        R + "/logs/validation/{case}_sv{sv}.log",
+        f"{R}/logs/validation/{{case}}_sv{{sv}}.log",
     threads: 1
     script:
         "../scripts/run.py"
@@ -27,16 +27,19 @@ rule validation_summary:
     """Peaks, initial stiffness, rate and mesh sensitivity; the
     load-displacement figure."""
     input:
-        results=expand(R + "/validation/runs/{run}/result.parquet", run=get_validation_runs()),
-        curves=expand(R + "/validation/runs/{run}/curve.parquet", run=get_validation_runs()),
-        template=template("validation_summary"),
+        results=expand(f"{R}/validation/runs/{{run}}/result.parquet", run=plan.validation_runs(config)),
+        curves=expand(f"{R}/validation/runs/{{run}}/curve.parquet", run=plan.validation_runs(config)),
+        template=get_template("validation_summary"),
     output:
-        table=report(R + "/validation/summary.csv", caption=caption("validation_summary"), category="Validation"),
-        figure=report(R + "/validation/load_displacement.png", caption=caption("validation_summary"),
+        table=report(f"{R}/validation/summary.csv", caption=get_caption("validation_summary"),
+                     category="Validation"),
+        figure=report(f"{R}/validation/load_displacement.png", caption=get_caption("validation_summary"),
                       category="Validation"),
-        caption=caption("validation_summary"),
+        caption=get_caption("validation_summary"),
+    params:
+        runs=plan.validation_runs(config),
     log:
-        R + "/logs/validation/summary.log",
+        f"{R}/logs/validation/summary.log",
     script:
         "../scripts/validation_summary.py"
 
@@ -46,9 +49,9 @@ rule model_numbering:
     input:
         scene=config["scene"],
     output:
-        report(R + "/validation/model_numbering.png", caption="../report/model_numbering.rst",
+        report(f"{R}/validation/model_numbering.png", caption="../report/model_numbering.rst",
                category="3-D pictures"),
     log:
-        R + "/logs/validation/model_numbering.log",
+        f"{R}/logs/validation/model_numbering.log",
     script:
         "../scripts/model_numbering.py"

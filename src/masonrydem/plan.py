@@ -1,0 +1,181 @@
+"""What the workflow runs: the run ids of every stage and the scene
+overrides of each simulation job, from the workflow's config
+(config/config.yaml, validated by config/schema.yaml).  The file paths are
+the workflow's (workflow/rules/common.smk); this module names the runs and
+says what each one overrides."""
+
+
+def effective(*lists):
+    """Scene overrides in order, without those a later one replaces (same
+    key): the parameters then say only what a run uses, so that changing a
+    default that a run overrides anyway does not rerun it."""
+    flat = [o for lst in lists for o in lst]
+    keys = [o.split("=", 1)[0] for o in flat]
+    return [o for i, o in enumerate(flat) if keys[i] not in keys[i + 1:]]
+
+
+def _by_name(cases):
+    return {c["name"]: c["overrides"] for c in cases}
+
+
+# --- validation ----------------------------------------------------------
+def validation_runs(config):
+    """Run ids '<case>_sv<sigma_v>': every case at every precompression."""
+    v = config["validation"]
+    return [f"{c['name']}_sv{sv}" for c in v["cases"] for sv in v["precompression_mpa"]]
+
+
+def validation_overrides(config, case, sv):
+    """One validation run: its case's overrides plus the precompression
+    (``sv`` in MPa, as in its run id)."""
+    return effective(config["numerics"], _by_name(config["validation"]["cases"])[case],
+                     [f"loading.precompression.pressure={float(sv) * 1e6}"])
+
+
+# --- hard cases (issue 6) ---------------------------------------------------
+def hard_case_jobs(config):
+    """Run id -> scene overrides (after config 'numerics') of the hard cases
+    (config 'hard_cases', issue 6) and of their half-rate reruns
+    ('<name>_half_rate', overrides config 'half_rate')."""
+    jobs = {}
+    for c in config.get("hard_cases", []):
+        jobs[c["name"]] = list(c["overrides"])
+        if c.get("half_rate"):
+            jobs[c["name"] + "_half_rate"] = list(c["overrides"]) + list(config["half_rate"])
+    return jobs
+
+
+def hard_case_expect(config):
+    """Case -> the failure mode its strengths call for ('any': a
+    trustworthy number or a clear status)."""
+    return {c["name"]: c["expect"] for c in config.get("hard_cases", [])}
+
+
+def hard_case_overrides(config, run):
+    return effective(config["numerics"], hard_case_jobs(config)[run])
+
+
+# --- reduced models (issue 7) ---------------------------------------------
+def reduced_runs(config):
+    """(case, model) of every reduced-model run, case by case."""
+    r = config.get("reduced")
+    return [(c["name"], m) for c in r["cases"] for m in r["models"]] if r else []
+
+
+def reduced_overrides(config, case, model):
+    r = config["reduced"]
+    return effective(config["numerics"], _by_name(r["cases"])[case], r["models"][model])
+
+
+# --- further specimens (issue 7) --------------------------------------------
+def specimen_cases(config):
+    """Case -> {name, scene, overrides} of the further specimens."""
+    return {c["name"]: c for c in config.get("specimens", [])}
+
+
+# --- the stochastic study -----------------------------------------------------
+def study_pictures(config):
+    """(variant, failure mode) of the study's 3-D pictures."""
+    return [(v, m) for v in config["study"]["variants"] for m in ("joint", "brick")]
+
+
+# --- the accuracy study (issue 5) -------------------------------------------
+def grid_setting(cells, refine):
+    """Setting id of a mesh: cells per unit and sub-contact refinement."""
+    return "c{}x{}x{}_r{}".format(*cells, refine)
+
+
+def _mesh(cells, refine):
+    return [f"numerics.cells={list(cells)}", f"numerics.subcontact_refine={refine}"]
+
+
+def path_cells(acc):
+    """The refinement path (run at the finest sub-contact refinement)."""
+    return acc["cells"] + acc["path_cells"]
+
+
+def path_settings(config):
+    """Setting ids of the refinement path, which give each case's converged
+    reference."""
+    acc = config.get("accuracy")
+    return [grid_setting(c, max(acc["subcontact_refine"])) for c in path_cells(acc)] if acc else []
+
+
+def scaling_settings(config):
+    """Setting ids of the grid cells at the coarsest sub-contact refinement
+    (run time against the cells per edge)."""
+    acc = config.get("accuracy")
+    return [grid_setting(c, min(acc["subcontact_refine"])) for c in acc["cells"]] if acc else []
+
+
+def accuracy_grid(acc):
+    """Setting id -> mesh overrides: the grid cells x sub-contacts, the
+    extra candidates and the finer path levels (on top of config numerics,
+    like every accuracy run: the references then have the defaults' loading
+    rate and stops, and the defaults' error is the mesh error alone)."""
+    out = {}
+    for cells, refines in ((acc["cells"], acc["subcontact_refine"]), (acc["extra_cells"], acc["extra_refine"]),
+                           (path_cells(acc)[len(acc["cells"]):], [max(acc["subcontact_refine"])])):
+        for c in cells:
+            for r in refines:
+                out[grid_setting(c, r)] = _mesh(c, r)
+    return out
+
+
+def accuracy_oat(acc, case):
+    """Setting id -> overrides of the defaults themselves and of one
+    setting changed at a time, around the defaults or around the grid
+    setting named by 'around' (e.g. the loading rate on a fine mesh)."""
+    out = {"default": []}
+    grid = accuracy_grid(acc)
+    for s in acc["settings"]:
+        if "around" in s and s["around"] not in grid:
+            raise ValueError(f"config accuracy.settings {s['name']}.around: {s['around']!r} is not a grid setting "
+                             f"(cells x subcontact_refine, extra_cells x extra_refine, path_cells)")
+        if case in s.get("cases", [c["name"] for c in acc["cases"]]):
+            for v in s["values"]:
+                out[f"{s['name']}_{v}"] = [*grid.get(s.get("around"), []), f"{s['key']}={v}"]
+    return out
+
+
+def accuracy_baselines(config):
+    """One-at-a-time setting id -> the setting it varies ('default' or its 'around')."""
+    acc = config.get("accuracy")
+    return {f"{s['name']}_{v}": s.get("around", "default") for s in acc["settings"] for v in s["values"]} if acc else {}
+
+
+def accuracy_cases(config):
+    acc = config.get("accuracy")
+    return [c["name"] for c in acc["cases"]] if acc else []
+
+
+def accuracy_runs(config):
+    """(case, setting) of every accuracy run: per case the grid, then the
+    defaults and the one-at-a-time settings."""
+    acc = config.get("accuracy")
+    return [(c["name"], s) for c in acc["cases"] for s in [*accuracy_grid(acc), *accuracy_oat(acc, c["name"])]] \
+        if acc else []
+
+
+def accuracy_overrides(config, case, setting):
+    acc = config["accuracy"]
+    return effective(config["numerics"], _by_name(acc["cases"])[case],
+                     {**accuracy_grid(acc), **accuracy_oat(acc, case)}[setting])
+
+
+def scaling_courses(config):
+    acc = config.get("accuracy")
+    return acc["scaling_courses"] if acc else []
+
+
+def scaling_overrides(config, courses):
+    """The defaults on a wallette of ``courses`` courses (run time against
+    the number of units)."""
+    return config["numerics"] + [f"geometry.courses={courses}"]
+
+
+def subsample_fine(config):
+    """The fine settings of the accuracy subsample (complete: independent
+    of the defaults)."""
+    acc = config.get("accuracy")
+    return acc["subsample"]["fine"] if acc else []
