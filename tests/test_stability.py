@@ -183,7 +183,7 @@ def _run(overrides):
 def runs():
     """Every hard case, three of them again at half the loading rate, and the
     symmetric wallette: two at a time (two cores), one thread each."""
-    from masonrydem.validation import hard_case_jobs
+    from masonrydem.plan import hard_case_jobs
     jobs = hard_case_jobs(CONFIG)
     jobs["symmetric"] = SYMMETRIC
     with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn")) as ex:

@@ -13,6 +13,7 @@ from sklearn.model_selection import GroupKFold
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
+from .masonry import bond_overlap, modelled_unit
 from .sampling import STUDY_VARIABLES
 
 INPUTS = ("f_tj_mpa", "f_tu_mpa", "phi_j_deg", "E_b_mpa")
@@ -272,8 +273,7 @@ def wallette_geometry(scene):
     offset x modelled unit length, the height h_b of a modelled unit (unit +
     joint) and the joints' c_ratio (c_j = c_ratio f_tj)."""
     geo = scene["geometry"]
-    return dict(l_o=geo["bond_offset"] * (geo["unit"]["length"] + geo["joint_thickness"]),
-                h_b=geo["unit"]["height"] + geo["joint_thickness"], c_ratio=scene["materials"]["joints"]["c_ratio"])
+    return dict(l_o=bond_overlap(geo), h_b=modelled_unit(geo)[2], c_ratio=scene["materials"]["joints"]["c_ratio"])
 
 
 def design_table(fits, ns, resid_sd, levels, geometry):

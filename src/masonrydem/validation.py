@@ -4,8 +4,6 @@ mesh."""
 import numpy as np
 import pandas as pd
 
-from .plan import hard_case_jobs  # noqa: F401  (its old home: tests/test_stability.py imports it from here)
-
 
 def initial_stiffness(curve, lo=0.1, hi=0.4):
     """Slope (kN/mm) of a straight line fitted to the pre-peak points of the

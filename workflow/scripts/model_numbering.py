@@ -4,7 +4,8 @@ import sys
 sm = snakemake  # noqa: F821
 sys.stderr = sys.stdout = open(sm.log[0], "w")
 
-from masonrydem.scene import build, load_scene  # noqa: E402
+from masonrydem.scene import load_scene  # noqa: E402
+from masonrydem.specimen import build  # noqa: E402
 from masonrydem.viz import picture_numbering  # noqa: E402
 
 specimen = build(load_scene(sm.input.scene))
