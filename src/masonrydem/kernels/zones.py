@@ -291,16 +291,12 @@ def _zone_forces(plastic):
             for i in range(npend):
                 t = pending[i, 0]
                 g = pending[i, 1]
-                o0 = stress[t, 0]
-                o1 = stress[t, 1]
-                o2 = stress[t, 2]
-                o3 = stress[t, 3]
-                o4 = stress[t, 4]
-                o5 = stress[t, 5]
+                trial = de[0]           # free in this pass: the trial stress
+                trial[:] = stress[t]
                 if zone_mohr_coulomb(t, zp, zs, stress, a, evec, x0, gnodes, gnptr[g], gnptr[g + 1]):
-                    _tet_forces(t, wt[t] * vol[t], stress[t, 0] - o0, stress[t, 1] - o1,
-                                stress[t, 2] - o2, stress[t, 3] - o3, stress[t, 4] - o4,
-                                stress[t, 5] - o5, tets, dn, f)
+                    _tet_forces(t, wt[t] * vol[t], stress[t, 0] - trial[0], stress[t, 1] - trial[1],
+                                stress[t, 2] - trial[2], stress[t, 3] - trial[3], stress[t, 4] - trial[4],
+                                stress[t, 5] - trial[5], tets, dn, f)
 
     return zone_forces_
 
