@@ -12,7 +12,9 @@ Prints one JSON line:
 The kernels are timed on realistic states: the reference wallette loaded
 past its peak (joint failure: joints softening), and a strong-joint
 wallette past its peak (brick failure: zones cracking, reported under
-"brick_failure").
+"brick_failure").  ``--tiny``: the same on a wallette of 2 x 2 units of
+one cell each, a few hundred steps (tests/test_bench.py runs it, so that
+the benchmark cannot break unnoticed).
 """
 import json
 import os
@@ -33,6 +35,8 @@ from masonrydem.scene import load_scene  # noqa: E402
 from masonrydem.specimen import build  # noqa: E402
 
 SCENE = "config/scenes/willis.yaml"
+TINY = ["geometry.courses=2", "geometry.units_per_course=2", "numerics.cells=[1, 1, 1]",
+        "loading.bending.supports_x=[0.1, 0.5]", "loading.bending.loads_x=[0.25, 0.35]"]
 
 FRESH = """
 import time, sys
@@ -87,14 +91,14 @@ def best_of(fn, n, repeat=5):
     return best / n
 
 
-def kernel_times(overrides, steps=6000):
+def kernel_times(overrides, steps=6000, ramp=2000):
     """Loads the wallette of SCENE (with ``overrides``) for ``steps`` steps,
     then times the zone and joint kernels on copies of that state and a
     stretch of whole steps."""
     sp = build(load_scene(SCENE, overrides))
     s = Solver(sp.model, chunk=500)
     s.vpres[sp.drive] = [0.0, 5e-8, 0.0]
-    s.run(steps, ramp_steps=2000)
+    s.run(steps, ramp_steps=ramp)
     nodes = s.nodes._replace(v=s.v.copy(), f=np.zeros_like(s.f))
     zs = s.zones._replace(state=s.zs.copy(), stress=s.stress.copy())
     js = s.joints._replace(state=s.js.copy())
@@ -115,12 +119,13 @@ def kernel_times(overrides, steps=6000):
                 share_zones=round(t_zone / t_step, 3), share_joints=round(t_joint / t_step, 3))
 
 
-def main():
+def main(tiny=False):
     fresh_process_times(1)          # make sure the cache is warm
-    import_s, load_s = fresh_process_times()
-    ref = kernel_times([])
+    import_s, load_s = fresh_process_times(1 if tiny else 3)
+    base, steps, ramp = (TINY, 600, 200) if tiny else ([], 6000, 2000)
+    ref = kernel_times(base, steps, ramp)
     # strong joints: the bricks crack (brick failure), so the plastic path runs
-    brick = kernel_times(["materials.joints.ft=1.0e6", "materials.joints.GI=30.0"], steps=9000)
+    brick = kernel_times(base + ["materials.joints.ft=1.0e6", "materials.joints.GI=30.0"], int(1.5 * steps), ramp)
     out = dict(ref)
     out.update(kernel_load_s=round(load_s, 3), import_s=round(import_s, 3),
                brick_failure={k: brick[k] for k in ("ns_per_tet_step", "ns_per_subcontact_step",
@@ -129,4 +134,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(tiny="--tiny" in sys.argv[1:])

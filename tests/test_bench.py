@@ -1,0 +1,28 @@
+"""`make bench` runs (issue 21: it had broken unnoticed): benchmarks/bench.py
+on a tiny wallette prints its JSON line, with the model's own counts and
+finite, positive timings."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+from masonrydem.scene import load_scene
+from masonrydem.specimen import build
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_bench_runs_on_a_tiny_wallette():
+    out = subprocess.run([sys.executable, "benchmarks/bench.py", "--tiny"], cwd=ROOT, capture_output=True,
+                         text=True, check=True).stdout.strip().splitlines()[-1]
+    r = json.loads(out)
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from bench import TINY
+    sp = build(load_scene(str(ROOT / "config/scenes/willis.yaml"), TINY))
+    a = sp.model.build()
+    assert r["tetrahedra"] == 4 * 10 == a.zones.tets.shape[0]
+    assert r["subcontacts"] == a.joints.area.size
+    for block in (r, r["brick_failure"]):
+        for key in ("ns_per_tet_step", "ns_per_subcontact_step", "steps_per_s"):
+            assert 0 < block[key] < 1e9, key
+    assert 0 < r["import_s"] < 60 and 0 < r["kernel_load_s"] < 120
