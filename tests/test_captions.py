@@ -45,14 +45,15 @@ def test_hard_cases_count_the_runs_that_miss_their_mode():
     table = pd.DataFrame(dict(run=["x", "x_half_rate"], case=["x", "x"], status=["load_drop", "step_limit"],
                               ok=[True, False], P_max_kN=[10.0, 10.1], failure_mode=["brick", "joint"],
                               expect=["joint", "joint"], mode_as_expected=[False, True], steps=[1000, 2000],
-                              ratio_at_peak=[0.01234, 0.002], post_peak=["quasi-static", "dynamic"],
+                              ratio_at_peak=[0.3, 0.2], unbalance_at_peak=[0.01234, 0.002],
+                              post_peak=["quasi-static", "dynamic"],
                               half_rate_change_pct=[np.nan, 1.0]))
     values = captions.hard_cases(table)
     assert (values["n"], values["unmet"]) == (2, 2)
     text = fill("hard_cases", values)
     assert "2 of 2 runs miss their expected mode" in text
     assert ("- x: load_drop, **P_max 10.000 kN**, brick failure (expected: joint, NOT MET), 1000 steps, "
-            "ratio at the peak 0.0123, post-peak quasi-static\n") in text
+            "load unbalanced by 0.0123 at the peak, post-peak quasi-static\n") in text
     assert "- x_half_rate: step_limit," in text and "post-peak dynamic, +1.00 % against x" in text
 
 

@@ -192,11 +192,11 @@ def runs():
 
 def _pre_peak_dip(curve, P):
     """Largest fall of the load below its running maximum on the way to the
-    peak, as a fraction of P, over the states near equilibrium (unbalanced-
-    force ratio below PEAK_RATIO) above half the peak (below it lies the
+    peak, as a fraction of P, over the states near equilibrium (the load's
+    unbalance below PEAK_UNBALANCE) above half the peak (below it lies the
     start-up transient of the loading strips)."""
-    from masonrydem.solver import PEAK_RATIO
-    eq = curve[curve["ratio"] < PEAK_RATIO]
+    from masonrydem.solver import PEAK_UNBALANCE
+    eq = curve[curve["unbalance"] < PEAK_UNBALANCE]
     pre = eq.loc[:eq["load_kN"].idxmax()]
     pre = pre[pre["load_kN"] >= 0.5 * P]
     return float((pre["load_kN"].cummax() - pre["load_kN"]).max() / P)
@@ -208,13 +208,13 @@ def test_hard_case(runs, name):
     near equilibrium; its failure mode is the one its strengths call for;
     the post-peak branch is labelled quasi-static or dynamic (a snap the
     displacement control cannot follow), never left unsaid."""
-    from masonrydem.solver import PEAK_RATIO
+    from masonrydem.solver import PEAK_UNBALANCE
     row, curve = runs[name]
     expect = HARD[name]["expect"]
     assert row["ok"], f"{row['status']}: {row['message']}"
     P = row["P_max_kN"]
     assert math.isfinite(P) and P > 0
-    assert row["ratio_at_peak"] < PEAK_RATIO
+    assert row["unbalance_at_peak"] < PEAK_UNBALANCE
     if expect != "any":
         assert row["failure_mode"] == expect, row["classification"]
     # a run stopped at its displacement limit while still rising has no

@@ -79,33 +79,55 @@ class Block:
         return (int(np.sum((gp >= plo - GEOM_TOL) & (gp <= phi + GEOM_TOL)))
                 * int(np.sum((gq >= qlo - GEOM_TOL) & (gq <= qhi + GEOM_TOL))))
 
-    def face_points(self, axis, rect, refine=1):
-        """Sub-contact points of this block's face (normal to ``axis``) over
-        the rectangle ``rect`` = ((plo, phi), (qlo, qhi)) in the face's
-        coordinates.  The points are the face gridpoints (of a grid refined
-        ``refine`` times); each carries the area of its dual cell (halfway
-        to its neighbours) clipped to ``rect``; it sits at the gridpoint
-        when that lies in ``rect`` (the conforming case: consistent nodal
-        lumping), else at the centroid of the clipped cell (non-conforming
-        faces).  The dual cells tile the face, so the areas sum exactly to
-        the area of rect (inside the face).  Returns (P, Q, area)
-        arrays."""
-        gp, gq = self.face_grid(axis)
-        out = []
-        for g, (rlo, rhi) in zip((gp, gq), rect):
-            pts = np.linspace(g[0], g[-1], refine * (g.size - 1) + 1)
-            edges = np.concatenate([[g[0]], 0.5 * (pts[1:] + pts[:-1]), [g[-1]]])
-            lo = np.maximum(edges[:-1], rlo)
-            hi = np.minimum(edges[1:], rhi)
-            length = np.maximum(hi - lo, 0.0)
-            inside = (pts >= rlo - GEOM_TOL) & (pts <= rhi + GEOM_TOL)
-            out.append((np.where(inside, pts, 0.5 * (lo + hi)), length))
-        (cp, lp), (cq, lq) = out
-        P, Q = np.meshgrid(cp, cq, indexing="ij")
-        A = np.outer(lp, lq)
-        keep = A > 1e-14 * A.sum()
-        return P[keep], Q[keep], A[keep]
 
+def breakpoints(lo, hi, *lines):
+    """[lo, hi] cut at every line of ``lines`` inside it, lines closer than
+    GEOM_TOL merged: the intervals on which the fields of every face that
+    the lines come from are polynomial (bilinear elements)."""
+    x = np.concatenate([[lo, hi], *[np.asarray(g, float) for g in lines]])
+    x = np.sort(x[(x >= lo) & (x <= hi)])
+    keep = np.concatenate([[True], np.diff(x) > GEOM_TOL])
+    x = x[keep]
+    x[-1] = hi
+    return x
+
+
+def simpson(breaks, refine=1):
+    """Composite Simpson (3-point Gauss-Lobatto) rule on the intervals of
+    ``breaks``, each split into ``refine`` equal parts: (points, weights).
+    Exact for cubics on each interval, so for the product of two linear
+    fields: a joint's bending and torsional stiffness come out exact for a
+    linear traction field; and with points at the interval ends, a joint's
+    edge reaches its strength when the linear field's edge value does (the
+    cracking moment f_t b h^2 / 6).  Nodal (trapezoid) weights would
+    overestimate both by (1 + 2 / n^2) with n intervals; two-point Gauss
+    would get the stiffness but, without end points, a cracking moment up
+    to sqrt(3) times too high on one interval."""
+    edges = np.concatenate([np.linspace(a, b, refine + 1)[:-1] for a, b in zip(breaks[:-1], breaks[1:])]
+                           + [breaks[-1:]])
+    h = np.diff(edges)
+    pts = np.empty(2 * h.size + 1)
+    w = np.zeros(2 * h.size + 1)
+    pts[0::2] = edges
+    pts[1::2] = 0.5 * (edges[:-1] + edges[1:])
+    w[1::2] = 4.0 * h / 6.0
+    w[0:-1:2] += h / 6.0
+    w[2::2] += h / 6.0
+    return pts, w
+
+
+def face_quadrature(rect, lines, refine=1):
+    """Points (P, Q) and weights (areas) of the tensor-product composite
+    Simpson rule on the rectangle ``rect`` = ((plo, phi), (qlo, qhi)) cut
+    by the grid lines of every face involved (a joint: both faces; a strip
+    or a pressure: the loaded face): ``lines`` = (p line arrays, q line
+    arrays), one array per face.
+    The weights sum to the rectangle's area, and their first moments to
+    its centroid times its area, whatever the grids: a strip's resultant
+    acts on its configured line."""
+    (pp, wp), (pq, wq) = (simpson(breakpoints(lo, hi, *ls), refine) for (lo, hi), ls in zip(rect, lines))
+    P, Q = np.meshgrid(pp, pq, indexing="ij")
+    return P.ravel(), Q.ravel(), np.outer(wp, wq).ravel()
 
 
 def face_point(axis, coord, P, Q):

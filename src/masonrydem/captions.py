@@ -50,7 +50,7 @@ def hard_cases(table):
     expected mode or end without a usable status."""
     lines = [f"{r.run}: {r.status}, **P_max {r.P_max_kN:.3f} kN**, {r.failure_mode} failure "
              f"(expected: {r.expect}{'' if r.mode_as_expected else ', NOT MET'}), {r.steps} steps, "
-             f"ratio at the peak {r.ratio_at_peak:.4f}, post-peak {r.post_peak}"
+             f"load unbalanced by {r.unbalance_at_peak:.4f} at the peak, post-peak {r.post_peak}"
              + ("" if pd.isna(r.half_rate_change_pct) else f", {r.half_rate_change_pct:+.2f} % against {r.case}")
              for r in table.itertuples()]
     return dict(lines=_bullets(lines), n=len(table), unmet=int((~(table.mode_as_expected & table.ok)).sum()))

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import kernels as K
-from .blocks import GEOM_TOL, face_point, local_axes
+from .blocks import GEOM_TOL, face_point, face_quadrature, local_axes
 from .errors import InputError
 from .laws import JointProps
 
@@ -83,9 +83,11 @@ class SubContacts:
 
 def find_joints(blocks, law, props, refine):
     """The joints between touching box faces: (contacts, sub-contacts).
-    ``props``: a JointProps, or a function (block_a, block_b) ->
-    JointProps; ``refine``: the sub-contacts sit at the gridpoints of the
-    face grid refined that many times."""
+    The sub-contacts are the points of a rule exact for the bilinear
+    fields of both faces (blocks.face_quadrature on the union of their
+    grids), each interpolated on both faces.  ``props``: a JointProps, or a
+    function (block_a, block_b) -> JointProps; ``refine``: each interval
+    of the rule split that many times."""
     boxes = [b for b in blocks if b.is_box]
     contacts, sc = [], SubContacts()
     for i, b1 in enumerate(boxes):
@@ -116,7 +118,7 @@ def _joint(cid, sc, lower, upper, axis, rect, law, props, refine):
     row = props.row()
     axes = local_axes(axis, sign)
     start = len(sc)
-    P, Q, A = a.face_points(axis, rect, refine)
+    P, Q, A = face_quadrature(rect, zip(a.face_grid(axis), b.face_grid(axis)), refine)
     for pp, qq, ar in zip(P, Q, A):
         na, wa = a.interpolate(axis, side_a, pp, qq)
         nb, wb = b.interpolate(axis, side_b, pp, qq)

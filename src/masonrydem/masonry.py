@@ -54,6 +54,30 @@ def wall_length(geometry):
     return L * (geometry["units_per_course"] + (geometry["bond_offset"] if geometry["courses"] > 1 else 0))
 
 
+def crack_band_error(geometry, cells_along):
+    """Why a unit mesh with ``cells_along`` cells along the unit's length
+    cannot carry a crack through the unit where it runs, or None.
+
+    In running bond a line crack through a unit follows the plane in line
+    with the head joints of the courses above and below: at the bond
+    offset b L from the unit's end.  The crack band (the zones that soften)
+    must be able to sit on that plane: a cell must be centred on it,
+    b n - 1/2 an integer for n cells (for b = 1/2: n odd).  When a node
+    plane lies there instead (n even for b = 1/2), the band has to sit
+    beside it and jog by half a cell at every bed joint, and the capacity
+    converges slowly from above (measured: 7 and 9 cells against 8)."""
+    b = geometry["bond_offset"]
+    if geometry["courses"] < 2 or b <= 0.0 or b >= 1.0:
+        return None
+    k = b * cells_along - 0.5
+    if abs(k - round(k)) < 1e-9:
+        return None
+    need = "an odd number" if abs(b - 0.5) < 1e-12 else f"n with {b:g} n - 1/2 an integer"
+    return (f"a unit's crack plane (in line with the head joints of the next courses, {b:g} of its length from "
+            f"its end) must fall in the middle of a cell, not on a node plane: use {need} of cells along the unit, "
+            f"got {cells_along}")
+
+
 def running_bond_joints(courses, per_course):
     """Joints numbered as contact planes: the head joints course by course
     (per_course - 1 per course), then one bed-joint plane under each unit

@@ -17,7 +17,7 @@ import numpy as np
 
 from . import kernels as K
 from .assembly import assemble
-from .blocks import Block, check_3, face_point, local_axes
+from .blocks import Block, check_3, face_point, face_quadrature, local_axes
 from .contacts import Strip, SubContacts, faces_on_plane
 from .errors import InputError
 from .laws import joint_law
@@ -139,7 +139,7 @@ class Model:
         points = []
         for b, side, r in faces_on_plane(self.blocks, axis, coord, normal, rect):
             points += [(b.interpolate(axis, side, pp, qq), ar, face_point(axis, coord, pp, qq))
-                       for pp, qq, ar in zip(*b.face_points(axis, r, self.subcontact_refine))]
+                       for pp, qq, ar in zip(*face_quadrature(r, zip(b.face_grid(axis)), self.subcontact_refine))]
         if not points:
             raise InputError(f"{where}.rect", "the strip touches no block face")
         sc = self.strip_subcontacts
@@ -164,7 +164,7 @@ class Model:
             raise InputError("pressure", f"must be finite, got {pressure!r}")
         total = 0.0
         for b, side, r in faces_on_plane(self.blocks, axis, coord, normal, rect):
-            P, Q, A = b.face_points(axis, r)
+            P, Q, A = face_quadrature(r, zip(b.face_grid(axis)))
             for pp, qq, ar in zip(P, Q, A):
                 force = np.zeros(3)
                 force[axis] = -normal * pressure * ar

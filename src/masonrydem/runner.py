@@ -18,7 +18,7 @@ import pandas as pd
 from . import __version__, source_hash
 from . import kernels as K
 from .classify import classify
-from .solver import PEAK_RATIO, Solver
+from .solver import PEAK_UNBALANCE, Solver
 from .specimen import build, strength
 
 GOOD = ("load_drop", "displacement_limit")
@@ -89,15 +89,18 @@ def run_scene(scene, progress=True):
     if loaded:
         s.vpres[specimen.drive] = specimen.velocity
         res = s.run(stage["max_steps"], disp_limit=u0 + stage["max_displacement"], load_drop=stage["load_drop"],
-                    monitor="load", ramp_steps=stage["ramp_steps"],
+                    monitor="load", balance="support", ramp_steps=stage["ramp_steps"],
                     progress=Progress(specimen.test, u0) if progress else None)
     H = s.history.array()
     H = H[H[:, K.H_STEP] > start]         # the loading stage
     step, ratio, P, u = H[:, K.H_STEP], H[:, K.H_RATIO], H[:, K.h_force(g)], H[:, K.h_disp(g)]
     # no loading stage (the precompression failed): no peak
-    peak_P, peak_u, peak_step, peak_ratio = (s.history.peak[g] if loaded and g in s.history.peak
-                                             else (math.nan, math.nan, -1, math.nan))
+    peak_P, peak_u, peak_step, peak_ratio, peak_unbalance = (
+        s.history.peak[g] if loaded and g in s.history.peak else (math.nan, math.nan, -1, math.nan, math.nan))
     status, message = res.status, res.message
+    if res.status in GOOD and math.isnan(peak_P):
+        status, message = "no_peak", (f"the load was never within {PEAK_UNBALANCE:.0%} of balanced after the "
+                                      "velocity ramp: no peak counts (lower the rate)")
     # a peak inside the velocity ramp does not count (History): a run that
     # reached its stop criteria would report a later, lower load as its peak
     ramp = P[step <= start + stage["ramp_steps"]]
@@ -105,15 +108,16 @@ def run_scene(scene, progress=True):
         status, message = "peak_in_ramp", (f"the load peaked at {ramp.max() / 1e3:.4g} kN within the velocity ramp "
                                            f"(the first {stage['ramp_steps']} steps), where a peak does not count: "
                                            "lower the rate or the ramp steps")
-    # after the peak: did the run stay near equilibrium, or did it snap (a
+    # after the peak: did the load stay near equilibrium, or did it snap (a
     # sudden crack that displacement control cannot follow, carried by inertia)?
-    ratios_after = ratio[step > peak_step] if peak_step >= 0 else ratio[:0]
-    after_ratio = float(ratios_after.max()) if ratios_after.size else math.nan
+    unbalance = s.unbalance(H, g)
+    unbalance_after = unbalance[step > peak_step] if peak_step >= 0 else unbalance[:0]
+    after_unbalance = float(np.nanmax(unbalance_after)) if unbalance_after.size else math.nan
     after = P[(u >= peak_u) & (u <= peak_u + DROP_WINDOW)]
     drop = 1.0 - after.min() / peak_P if after.size and peak_P > 0 else math.nan
     idx = downsample(u, P, scene["outputs"]["curve_points"]) if H.shape[0] else slice(0)
     curve = pd.DataFrame(dict(step=step[idx].astype(np.int64), displacement_mm=(u[idx] - u0) * 1e3,
-                              load_kN=P[idx] / 1e3, ratio=ratio[idx]))
+                              load_kN=P[idx] / 1e3, ratio=ratio[idx], unbalance=unbalance[idx]))
     out = scene["outputs"]
     row.update(
         P_max_kN=peak_P / 1e3,
@@ -128,8 +132,9 @@ def run_scene(scene, progress=True):
         steps=int(s.step),
         peak_step=int(peak_step),
         ratio_at_peak=peak_ratio,
-        max_ratio_after_peak=after_ratio,
-        post_peak=("none" if math.isnan(after_ratio) else "dynamic" if after_ratio >= PEAK_RATIO
+        unbalance_at_peak=peak_unbalance,
+        max_unbalance_after_peak=after_unbalance,
+        post_peak=("none" if math.isnan(after_unbalance) else "dynamic" if after_unbalance >= PEAK_UNBALANCE
                    else "quasi-static"),
         tets=int(s.zones.tets.shape[0]),
         subcontacts=int(s.js.shape[0]),

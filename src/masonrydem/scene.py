@@ -16,8 +16,8 @@ import yaml
 from jsonschema import Draft202012Validator, validators
 
 from .errors import InputError
-from .laws import BLOCK_MODELS, JOINT_LAWS
-from .masonry import running_bond_joints, wall_length
+from .laws import BLOCK_MODELS, JOINT_LAWS, MohrCoulomb
+from .masonry import crack_band_error, running_bond_joints, wall_length
 
 
 class _Loader(yaml.SafeLoader):
@@ -84,6 +84,10 @@ def validate_scene(scene):
         raise InputError("outputs.state", "the final state (VTK: zones and their damage) exists for deformable "
                          "blocks only, not for rigid ones")
     g = scene["geometry"]
+    if BLOCK_MODELS[phys["blocks"]].material is MohrCoulomb:
+        reason = crack_band_error(g, scene["numerics"]["cells"][0])
+        if reason:
+            raise InputError("numerics.cells.0", reason)
     n_units = g["courses"] * g["units_per_course"]
     n_joints = len(running_bond_joints(g["courses"], g["units_per_course"]))
     for key, n, what in (("per_unit", n_units, "units"), ("per_joint", n_joints, "joints")):

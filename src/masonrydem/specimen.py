@@ -119,14 +119,14 @@ def build(scene):
         _roller(m, rigid, m.blocks[0].lo, dof=1)
         ends = [(blocks[(k, 0)], blocks[(k, nu - 1)]) for k in range(nk)]
         if test == "tension":   # every course gripped at both ends
-            held, pulled = [lo for lo, _ in ends], [hi for _, hi in ends]
-            m.fix(_grip(m, held, 0), dofs=[0])
+            held, pulled = _grip(m, [lo for lo, _ in ends], 0), [hi for _, hi in ends]
         else:                   # triplet: outer units held on the right, the middle one pushed on the left
-            held, pulled = [blocks[(0, 0)], blocks[(2, 0)]], [blocks[(1, 0)]]
-            m.fix(_grip(m, held, 1), dofs=[0])
+            held, pulled = _grip(m, [blocks[(0, 0)], blocks[(2, 0)]], 1), [blocks[(1, 0)]]
+        m.fix(held, dofs=[0])
         drive = _grip(m, pulled, 0 if test == "triplet" else 1)
         m.fix(drive, dofs=[0])
         m.add_monitor("load", drive, 0)
+        m.add_monitor("support", held, 0)
         velocity, supports = np.array([scene["loading"][test]["rate"], 0.0, 0.0]), []
     pre = scene["loading"]["precompression"]
     if pre["pressure"]:
@@ -200,6 +200,7 @@ def _bending(m, scene, rigid, T, Htot, E_b):
     loads = [m.add_strip(f"load{i}", 1, 0.0, -1, ((0.0, Htot), (xl - w, xl + w)), ks)
              for i, xl in enumerate(bend["loads_x"])]
     m.add_monitor("load", loads, 1)
+    m.add_monitor("support", supports, 1)
     return loads, np.array([0.0, bend["rate"], 0.0]), supports
 
 

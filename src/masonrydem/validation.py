@@ -69,7 +69,8 @@ def hard_cases_table(results, expect):
         rows.append(dict(run=run, case=case, expect=expect[case], status=r["status"], ok=r["ok"], failure_mode=r["failure_mode"],
                          mode_as_expected=expect[case] in ("any", r["failure_mode"]), P_max_kN=r["P_max_kN"],
                          disp_at_peak_mm=r["disp_at_peak_mm"], steps=r["steps"], peak_step=r["peak_step"],
-                         ratio_at_peak=r["ratio_at_peak"], post_peak=r["post_peak"], wall_time_s=r["wall_time_s"],
+                         ratio_at_peak=r["ratio_at_peak"],
+                         unbalance_at_peak=r["unbalance_at_peak"], post_peak=r["post_peak"], wall_time_s=r["wall_time_s"],
                          half_rate_change_pct=change, message=r["message"]))
     return pd.DataFrame(rows)
 

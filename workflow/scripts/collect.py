@@ -21,7 +21,7 @@ def thinned(path):
     c = pd.read_parquet(path)
     if len(c) > sm.params.curve_points + 1:
         c = c.iloc[downsample(c.displacement_mm.to_numpy(), c.load_kN.to_numpy(), sm.params.curve_points)]
-    return c.astype({k: "float32" for k in ("displacement_mm", "load_kN", "ratio")})
+    return c.astype({k: "float32" for k in ("displacement_mm", "load_kN", "ratio", "unbalance")})
 
 
 curves = pd.concat([thinned(p) for p in sm.input.curves], ignore_index=True)

@@ -27,7 +27,8 @@ except Exception as e:  # nothing lost: the row says what happened
     row = dict(variant=variant, sample=sample, sigma_v_mpa=sv, status="error", ok=False,
                message=f"{type(e).__name__}: {e}", **sample_inputs(samples[samples["sample"] == sample].iloc[0]))
     curve = pd.DataFrame({"step": pd.Series(dtype="int64"), "displacement_mm": pd.Series(dtype="float64"),
-                          "load_kN": pd.Series(dtype="float64"), "ratio": pd.Series(dtype="float64")}).assign(
+                          "load_kN": pd.Series(dtype="float64"), "ratio": pd.Series(dtype="float64"),
+                          "unbalance": pd.Series(dtype="float64")}).assign(
         variant=variant, sample=sample, sigma_v_mpa=sv)
 atomic_write(sm.output.curve, lambda p: curve.to_parquet(p, index=False))
 atomic_write(sm.output.result, lambda p: pd.DataFrame([row]).to_parquet(p, index=False))
