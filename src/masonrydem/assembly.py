@@ -14,8 +14,9 @@ from . import kernels as K
 from .contacts import Strip, SubContacts, find_joints
 from .errors import InputError
 from .laws import joint_law
+from .elements import cell_stiffness
 from .mesh import tet_geometry
-from .stability import contact_stiffness, rigid_contact_stiffness, zone_stiffness
+from .stability import cell_stiffness_bound, contact_stiffness, rigid_contact_stiffness, zone_stiffness
 
 
 @dataclass
@@ -29,6 +30,7 @@ class Assembly:
     jlaw: int
     nodes: K.Nodes
     zones: K.Zones
+    cells: K.Cells
     joints: K.Contacts
     bearings: K.Contacts
     bodies: K.Bodies
@@ -39,6 +41,7 @@ class Assembly:
     stiffness: np.ndarray         # (n,) bound of each node's (body's translational) stiffness
     rot_stiffness: np.ndarray     # (n,) rigid: bound of each body's rotational stiffness
     inertia: np.ndarray           # (n, 3) rigid: principal moments of inertia
+    h_min: float                  # smallest zone, cell or body size (the divergence guard)
     block_of_node: np.ndarray     # (n,) block of each node (-1: a strip)
 
     @property
@@ -106,12 +109,47 @@ def _nodes(x0, mphys, fixed, vpres, fext):
 
 
 def _deformable(model, x0, jlaw, joints, bearings, joint_points, bearing_points, contacts, fixed, vpres, monitors):
-    """Zones of every block, nodal masses for gravity (a quarter of each
-    tetrahedron's weighted mass), the nodes' stiffness bounds."""
+    """Zones of the blocks meshed into zones, cells of the blocks computed
+    as linear cells, nodal masses for gravity (a quarter of each
+    tetrahedron's weighted mass, an eighth of each cell's), the nodes'
+    stiffness bounds."""
     nn = x0.shape[0]
-    tets, dn, vol, wt, zp, gptr, gnodes, gnptr, block_of_node = [], [], [], [], [], [0], [], [0], []
+    zb = [b for b in model.blocks if b.element == "zones"]
+    zones = _zones(zb, x0) if zb else K.empty_zones()
+    cells = _cells([b for b in model.blocks if b.element != "zones"])
+    # one zone law for the model: elastic rows never yield under Mohr-Coulomb
+    zlaw = max(b.material.law_id for b in zb) if zb else K.ZONE_NONE
+    fext = np.zeros((nn, 3))
+    for nd, f in model.forces.items():
+        fext[nd] += f
+    mphys = np.zeros(nn)
+    stiff = np.zeros(nn)
+    if zb:
+        rho = np.concatenate([np.full(b.mesh.tets.shape[0], b.material.density) for b in zb])
+        np.add.at(mphys, zones.tets.ravel(), np.repeat(rho * zones.vol * zones.wt / 4.0, 4))
+        zone_stiffness(stiff, zones.tets, zones.dn, zones.vol * zones.wt, zones.par)
+    if cells.nodes.shape[0]:
+        np.add.at(mphys, cells.nodes.ravel(), np.repeat(cell_masses(model.blocks, cells), 8))
+        cell_stiffness_bound(stiff, cells)
+    contact_stiffness(stiff, joints)
+    contact_stiffness(stiff, bearings)
+    sizes = [np.cbrt(6.0 * zones.vol)] + [np.full(1, min((b.hi - b.lo) / b.cells)) for b in model.blocks
+                                           if b.element != "zones"]
+    return Assembly(
+        rigid=False, large=False, zlaw=zlaw, jlaw=jlaw, nodes=_nodes(x0, mphys, fixed, vpres, fext), zones=zones,
+        cells=cells, joints=joints, bearings=bearings, bodies=K.empty_bodies(), monitors=monitors,
+        joint_points=joint_points, bearing_points=bearing_points, contacts=contacts, stiffness=stiff,
+        rot_stiffness=np.zeros(0), inertia=np.zeros((0, 3)), h_min=float(np.min(np.concatenate(sizes))),
+        block_of_node=np.concatenate([np.full(b.n_nodes, b.id) for b in model.blocks]
+                                     + [np.full(len(model.strips), -1)]))
+
+
+def _zones(blocks, x0):
+    """The zones (tetrahedra and their mixed-discretization groups) of
+    ``blocks``, with their laws' parameter rows."""
+    tets, dn, vol, wt, zp, gptr, gnodes, gnptr = [], [], [], [], [], [0], [], [0]
     t_off = 0
-    for b in model.blocks:
+    for b in blocks:
         m = b.mesh
         t = m.tets + b.node0
         try:
@@ -126,35 +164,37 @@ def _deformable(model, x0, jlaw, joints, bearings, joint_points, bearing_points,
         gptr.extend((m.gptr[1:] + t_off).tolist())
         gnodes.append(m.gnodes + b.node0)
         gnptr.extend((m.gnptr[1:] + (gnptr[-1])).tolist())
-        block_of_node.append(np.full(b.n_nodes, b.id))
         t_off += t.shape[0]
-    # one zone law for the model: elastic rows never yield under Mohr-Coulomb
-    zlaw = max(b.material.law_id for b in model.blocks)
-    fext = np.zeros((nn, 3))
-    for nd, f in model.forces.items():
-        fext[nd] += f
-    vol = np.concatenate(vol)
-    wt = np.concatenate(wt)
-    tets = np.concatenate(tets)
-    rho = np.concatenate([np.full(b.mesh.tets.shape[0], b.material.density) for b in model.blocks])
-    mphys = np.zeros(nn)
-    np.add.at(mphys, tets.ravel(), np.repeat(rho * vol * wt / 4.0, 4))
-    stiff = np.zeros(nn)
-    zp = np.concatenate(zp)
-    dn = np.concatenate(dn)
-    zone_stiffness(stiff, tets, dn, vol * wt, zp)
-    contact_stiffness(stiff, joints)
-    contact_stiffness(stiff, bearings)
-    nt = tets.shape[0]
-    zones = K.Zones(tets=tets, dn=dn, vol=vol, wt=wt, gptr=np.asarray(gptr, np.int64),
-                    gnodes=np.concatenate(gnodes), gnptr=np.asarray(gnptr, np.int64), par=zp,
-                    state=np.zeros((nt, K.N_ZS)), stress=np.zeros((nt, 6)))
-    return Assembly(
-        rigid=False, large=False, zlaw=zlaw, jlaw=jlaw, nodes=_nodes(x0, mphys, fixed, vpres, fext), zones=zones,
-        joints=joints, bearings=bearings, bodies=K.empty_bodies(), monitors=monitors, joint_points=joint_points,
-        bearing_points=bearing_points, contacts=contacts, stiffness=stiff, rot_stiffness=np.zeros(0),
-        inertia=np.zeros((0, 3)),
-        block_of_node=np.concatenate(block_of_node + [np.full(len(model.strips), -1)]))
+    nt = t_off
+    return K.Zones(tets=np.concatenate(tets), dn=np.concatenate(dn), vol=np.concatenate(vol),
+                   wt=np.concatenate(wt), gptr=np.asarray(gptr, np.int64), gnodes=np.concatenate(gnodes),
+                   gnptr=np.asarray(gnptr, np.int64), par=np.concatenate(zp), state=np.zeros((nt, K.N_ZS)),
+                   stress=np.zeros((nt, 6)))
+
+
+def _cells(blocks):
+    """The linear cells of ``blocks``: one stiffness matrix per (element,
+    cell size, Poisson's ratio), scaled by each block's E."""
+    kinds, mats, nodes, kind, scale = {}, [], [], [], []
+    for b in blocks:
+        size = tuple(np.round((b.hi - b.lo) / b.cells, 12))
+        key = (b.element, size, b.material.nu)
+        if key not in kinds:
+            kinds[key] = len(mats)
+            mats.append(cell_stiffness(b.element, size, b.material.nu))
+        nodes.append(b.mesh.cells + b.node0)
+        kind.append(np.full(b.mesh.cells.shape[0], kinds[key]))
+        scale.append(np.full(b.mesh.cells.shape[0], b.material.E))
+    if not blocks:
+        return K.empty_cells()
+    return K.Cells(nodes=np.concatenate(nodes), kind=np.concatenate(kind), scale=np.concatenate(scale),
+                   K=np.array(mats))
+
+
+def cell_masses(blocks, cells):
+    """An eighth of each cell's mass (density x volume) per corner."""
+    return np.concatenate([np.full(b.mesh.cells.shape[0], b.material.density * np.prod((b.hi - b.lo) / b.cells) / 8.0)
+                           for b in blocks if b.element != "zones"])
 
 
 def _with_levers(sc, points, x0):
@@ -200,7 +240,8 @@ def _rigid(model, x0, jlaw, joints, bearings, joint_points, bearing_points, cont
         load_force=np.array([f for _, _, f in loads], float).reshape(-1, 3))
     return Assembly(
         rigid=True, large=bool(model.large), zlaw=K.ZONE_NONE, jlaw=jlaw,
-        nodes=_nodes(x0, mphys, fixed, vpres, np.zeros((nn, 3))), zones=K.empty_zones(), joints=joints,
-        bearings=bearings, bodies=bodies, monitors=monitors, joint_points=joint_points,
+        nodes=_nodes(x0, mphys, fixed, vpres, np.zeros((nn, 3))), zones=K.empty_zones(), cells=K.empty_cells(),
+        joints=joints, bearings=bearings, bodies=bodies, monitors=monitors, joint_points=joint_points,
         bearing_points=bearing_points, contacts=contacts, stiffness=kt, rot_stiffness=kr, inertia=inertia,
+        h_min=float(np.min(rlen)),
         block_of_node=np.concatenate([np.arange(nb), np.full(len(model.strips), -1)]))

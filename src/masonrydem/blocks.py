@@ -20,6 +20,7 @@ class Block:
     hi: np.ndarray = None
     cells: tuple = None           # of a rigid box: the grid of its faces' sub-contacts
     rigid: bool = False
+    element: str = "zones"        # zones (tetrahedra) or a linear cell (elements.ELEMENTS)
 
     @property
     def n_nodes(self):

@@ -4,7 +4,9 @@ explained.
 A cell (hexahedron of a unit) is cracked when the volume-weighted mean
 tensile damage of its 10 zones reaches ``crack_damage``.  A unit is cracked
 through when, along one of its axes, a layer of cells is at least
-``crack_through`` cracked (a crack across the unit).  The run is a "brick"
+``crack_through`` cracked (a crack across the unit); a potential-crack unit
+when that share of its crack interface's area has a damage of at least
+``crack_damage``.  The run is a "brick"
 failure when at least one unit is cracked through, otherwise a "joint"
 failure (separation and/or sliding of joints).  A joint (contact plane) is
 broken when its area-weighted mean damage reaches ``broken_joint_damage``.
@@ -12,6 +14,10 @@ broken when its area-weighted mean damage reaches ``broken_joint_damage``.
 import numpy as np
 
 from . import kernels as K
+
+
+def _zone_blocks(specimen):
+    return [blk for blk in specimen.model.blocks if blk.element == "zones"]
 
 
 def cell_damage(specimen, solver):
@@ -25,7 +31,7 @@ def cell_damage(specimen, solver):
     wv = z.vol * z.wt
     out = []
     start = 0
-    for blk in specimen.model.blocks:
+    for blk in _zone_blocks(specimen):
         nt = blk.mesh.tets.shape[0]
         nx, ny, nz = blk.cells
         w = wv[start:start + nt].reshape(-1, 10)
@@ -47,38 +53,63 @@ def joint_damage(specimen, solver):
     return num / np.where(den > 0, den, 1.0)
 
 
-def classify(specimen, solver, crack_damage=0.5, crack_through=0.5, broken_joint_damage=0.5):
-    """Returns a dict: failure_mode ('brick' or 'joint'), the evidence
-    columns and a one-line explanation."""
-    cells = cell_damage(specimen, solver)
-    fractions = []
-    cracked_vol = 0.0
-    total_vol = 0.0
-    for dc, vol in cells:
+def crack_fractions(specimen, solver, crack_damage):
+    """Per unit, the largest cracked share of a section through it, and the
+    cracked and total measure (volume of zones, or area of crack
+    interfaces).  Elasto-plastic units: the cracked share of a layer of
+    cells across one of its axes, a cell cracked when its mean damage
+    reaches ``crack_damage``; potential-crack units: the area share of its
+    crack interface whose damage reaches ``crack_damage``; rigid and
+    elastic units cannot crack."""
+    n = len(specimen.units)
+    fractions = np.zeros(n)
+    if specimen.model.rigid:
+        return fractions, 0.0, 0.0
+    if ("crack", specimen.units[0]) in specimen.joints:
+        area, D = solver.joints.area, solver.js[:, K.JS_D]
+        cracked, total = np.zeros(n), np.zeros(n)
+        for c, j in zip(specimen.model.contacts, specimen.contact_joint):
+            kind, unit = specimen.joints[j]
+            if kind == "crack":
+                u = specimen.units.index(unit)
+                cracked[u] += np.sum(area[c.sc][D[c.sc] >= crack_damage])
+                total[u] += np.sum(area[c.sc])
+        return cracked / total, float(cracked.sum()), float(total.sum())
+    cracked_vol = total_vol = 0.0
+    for blk, (dc, vol) in zip(_zone_blocks(specimen), cell_damage(specimen, solver)):
         cracked = dc >= crack_damage
         cracked_vol += vol[cracked].sum()
         total_vol += vol.sum()
         layer = max(cracked.mean(axis=tuple(a for a in range(3) if a != ax)).max() for ax in range(3))
-        fractions.append(float(layer))
-    fractions = np.array(fractions)
+        u = specimen.block_unit[blk.id]
+        fractions[u] = max(fractions[u], float(layer))
+    return fractions, cracked_vol, total_vol
+
+
+def classify(specimen, solver, crack_damage=0.5, crack_through=0.5, broken_joint_damage=0.5):
+    """Returns a dict: failure_mode ('brick' or 'joint'), the evidence
+    columns and a one-line explanation."""
+    fractions, cracked, total = crack_fractions(specimen, solver, crack_damage)
     through = np.flatnonzero(fractions >= crack_through)
-    jd = joint_damage(specimen, solver)
+    mortar = np.array([kind != "crack" for kind, _ in specimen.joints])
+    jd = joint_damage(specimen, solver)[mortar]
     broken = np.flatnonzero(jd >= broken_joint_damage)
     mode = "brick" if through.size else "joint"
+    what = "its crack interface" if not mortar.all() else "a layer of cells"
     if specimen.model.rigid:
         why = "joint failure: the units are rigid (they cannot crack)"
     elif through.size:
         why = (f"brick failure: unit(s) {', '.join(str(u + 1) for u in through)} cracked through "
-               f"(a layer of cells at least {crack_through:.0%} cracked; largest {fractions.max():.0%})")
+               f"({what} at least {crack_through:.0%} cracked; largest {fractions.max():.0%})")
     else:
-        why = (f"joint failure: no unit cracked through (largest cracked layer "
+        why = (f"joint failure: no unit cracked through (largest cracked share of {what} "
                f"{fractions.max():.0%} < {crack_through:.0%})")
     why += f"; {broken.size} of {jd.size} joints broken (mean damage >= {broken_joint_damage})"
     return dict(
         failure_mode=mode,
         cracked_units=int(through.size),
         unit_crack_fraction=float(fractions.max()) if fractions.size else 0.0,
-        cracked_brick_volume_frac=float(cracked_vol / total_vol) if total_vol else 0.0,
+        cracked_brick_volume_frac=float(cracked / total) if total else 0.0,
         broken_joints=int(broken.size),
         n_joints=int(jd.size),
         classification=why,

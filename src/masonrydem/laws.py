@@ -109,16 +109,20 @@ class MohrCoulomb(Elastic):
 
 @dataclass(frozen=True)
 class BlockModel:
-    """A block model a scene can declare (``physics.blocks``)."""
+    """A block model a scene can declare (``physics.blocks``): the material
+    of its units, rigid or deformable, and whether each unit is split at
+    its crack plane by a potential-crack interface (specimen.build)."""
     name: str
     material: type        # the material class of its units
     rigid: bool
+    crack_interface: bool = False
 
 
 BLOCK_MODELS = {m.name: m for m in (
     BlockModel("rigid", Elastic, True),
     BlockModel("elastic", Elastic, False),
     BlockModel("elasto-plastic", MohrCoulomb, False),
+    BlockModel("potential-crack", Elastic, False, crack_interface=True),
 )}
 
 

@@ -78,6 +78,16 @@ def crack_band_error(geometry, cells_along):
             f"got {cells_along}")
 
 
+def crack_plane(geometry, k):
+    """Where a line crack crosses a unit of course k: the distance from its
+    left end of the plane in line with the head joints of the courses
+    above and below (b L in courses shifted by the bond offset b L against
+    the course below, (1 - b) L in the others; L / 2 for half bond)."""
+    L = modelled_unit(geometry)[0]
+    b = geometry["bond_offset"]
+    return (1.0 - b) * L if k % 2 else b * L
+
+
 def running_bond_joints(courses, per_course):
     """Joints numbered as contact planes: the head joints course by course
     (per_course - 1 per course), then one bed-joint plane under each unit

@@ -28,13 +28,15 @@ class TetMesh:
     groups: tetrahedra of group g are tets[gptr[g]:gptr[g+1]];
     gnodes[gnptr[g]:gnptr[g+1]] are the nodes of the group's cell (used for
     the crack-band width); weight: the tetrahedra's weights (1/2 for
-    overlays, 1 otherwise)."""
+    overlays, 1 otherwise); cells: a box's hexahedral cells, their corner
+    c = i + 2 j + 4 k at offset (i, j, k) (none for unstructured blocks)."""
     nodes: np.ndarray
     tets: np.ndarray
     weight: np.ndarray
     gptr: np.ndarray
     gnodes: np.ndarray
     gnptr: np.ndarray
+    cells: np.ndarray = None
 
 
 def box_mesh(lo, hi, cells):
@@ -65,7 +67,7 @@ def box_mesh(lo, hi, cells):
     gptr = np.arange(0, ncell * 10 + 1, 5)
     gnodes = np.repeat(corners, 2, axis=0).ravel()             # 8 per group
     gnptr = np.arange(0, 2 * ncell * 8 + 1, 8)
-    return TetMesh(nodes, tets, weight, gptr, gnodes, gnptr)
+    return TetMesh(nodes, tets, weight, gptr, gnodes, gnptr, corners)
 
 
 def tet_mesh(nodes, tets):

@@ -19,8 +19,9 @@ from . import kernels as K
 from .assembly import assemble
 from .blocks import Block, check_3, face_point, face_quadrature, local_axes
 from .contacts import Strip, SubContacts, faces_on_plane
+from .elements import ELEMENTS
 from .errors import InputError
-from .laws import joint_law
+from .laws import Elastic, joint_law
 from .mesh import box_mesh, tet_mesh
 
 
@@ -56,10 +57,14 @@ class Model:
         self._built = None
 
     # --- blocks ---------------------------------------------------------
-    def add_box(self, lo, hi, cells, material, rigid=False):
+    def add_box(self, lo, hi, cells, material, rigid=False, element="zones"):
         """A box block [lo, hi] with ``cells`` hexahedral cells per edge
         (each two overlays of 5 tetrahedra); a rigid box has no mesh, and
-        ``cells`` sets the grid of its faces' sub-contacts."""
+        ``cells`` sets the grid of its faces' sub-contacts.  ``element``:
+        'zones' (each tetrahedron a zone with its own stress and law) or,
+        for an elastic block, a cell computed as one matrix
+        (elements.ELEMENTS: 'tet10' the same cell, 'hex8i' exact in
+        bending)."""
         bid = len(self.blocks)
         where = f"blocks[{bid}]"
         lo = check_3(f"{where}.lo", lo)
@@ -70,9 +75,12 @@ class Model:
         if not all(float(c).is_integer() and c >= 1 for c in cells):
             raise InputError(f"{where}.cells", f"cells per edge must be integers >= 1, got {cells.tolist()}")
         material.validate(f"{where}.material")
+        if element != "zones" and (element not in ELEMENTS or type(material) is not Elastic):
+            raise InputError(f"{where}.element", f"must be 'zones' or, for an elastic block, one of "
+                             f"{', '.join(ELEMENTS)}; got {element!r} for {type(material).__name__}")
         cells = tuple(int(c) for c in cells)
         mesh = None if rigid else box_mesh(lo, hi, cells)
-        return self._add(Block(bid, material, mesh, self.n_nodes, lo, hi, cells, bool(rigid)))
+        return self._add(Block(bid, material, mesh, self.n_nodes, lo, hi, cells, bool(rigid), element))
 
     def add_tet_block(self, nodes, tets, material):
         """An unstructured tetrahedral block (no joints are searched on it)."""

@@ -60,7 +60,7 @@ def inputs_row(specimen):
         f_tu_mpa=float(np.mean(specimen.f_tu)) / 1e6,
         f_tj_mpa=float(np.mean(specimen.f_tj)) / 1e6,
         phi_j_deg=float(np.mean(specimen.phi_j)),
-        units=len(specimen.model.blocks),
+        units=len(specimen.units),
         cells="x".join(str(c) for c in sc["numerics"]["cells"]),
         subcontact_refine=sc["numerics"]["subcontact_refine"],
     )
@@ -137,6 +137,7 @@ def run_scene(scene, progress=True):
         post_peak=("none" if math.isnan(after_unbalance) else "dynamic" if after_unbalance >= PEAK_UNBALANCE
                    else "quasi-static"),
         tets=int(s.zones.tets.shape[0]),
+        linear_cells=int(s.assembly.cells.nodes.shape[0]),
         subcontacts=int(s.js.shape[0]),
         max_rotation_rad=s.max_rotation(),
         wall_time_s=time.perf_counter() - t0,

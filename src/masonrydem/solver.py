@@ -73,6 +73,12 @@ class History:
         return self.names.index(name)
 
 
+def _skew(grad):
+    """Rotation vectors of the skew parts of displacement gradients (n, 3, 3)."""
+    w = 0.5 * (grad - np.transpose(grad, (0, 2, 1)))
+    return np.stack([w[:, 2, 1], w[:, 0, 2], w[:, 1, 0]], axis=1)
+
+
 class Solver:
     """Explicit central differences with Cundall's local damping, for a
     model of deformable blocks (nodes and zones) or of rigid blocks (six
@@ -140,11 +146,10 @@ class Solver:
         if nt:
             gsize = np.diff(a.zones.gptr).max()
             self.scratch = K.Scratch(np.zeros((gsize, 6)), np.zeros(gsize), np.zeros((nt, 2), np.int64),
-                                     np.zeros((3, 3)), np.zeros((3, 3)))
+                                     np.zeros((3, 3)), np.zeros((3, 3)), np.zeros(24))
         else:
             self.scratch = K.empty_scratch()
-        # smallest zone (body) size, for the divergence guard
-        self.h_min = float(np.min(a.bodies.rlen)) if self.rigid else float(np.min(np.cbrt(6.0 * a.zones.vol)))
+        self.h_min = a.h_min      # smallest zone, cell or body size, for the divergence guard
         self.gravity = np.asarray(model.gravity, float).copy()
         self.load_factor = 1.0
         self.work = np.zeros(2)   # work done on the model since the start, its largest value
@@ -221,8 +226,8 @@ class Solver:
         ctl = K.Controls(self.step, self.dt, self.alpha, self.load_factor, self.velocity_factor, self._ramp,
                          self.gravity)
         status, done = run_chunk_entry(a.zlaw, a.jlaw, int(a.rigid), int(a.large), self.gravity_on, nsteps, ctl,
-                                       self.nodes, self.zones, self.joints, self.bearings, self.bodies, a.monitors,
-                                       hist, self.work, self.scratch)
+                                       self.nodes, self.zones, a.cells, self.joints, self.bearings, self.bodies,
+                                       a.monitors, hist, self.work, self.scratch)
         hist = hist[:done]
         # loading at full speed (the velocity ramp is over) at each step
         loading = self.velocity_factor + np.arange(1, done + 1) * self._ramp >= 1.0
@@ -384,16 +389,20 @@ class Solver:
         t = z.tets
         du = self.u[t[:, 1:]] - self.u[t[:, :1]]                    # (nt, 3, 3)
         g = z.dn.reshape(-1, 3, 3)                                   # rows: grad N_a
-        grad = np.einsum("tai,taj->tij", du, g)                      # du_i/dx_j
-        w = 0.5 * (grad - np.transpose(grad, (0, 2, 1)))
-        omega = np.stack([w[:, 2, 1], w[:, 0, 2], w[:, 1, 0]], axis=1) * (z.vol * z.wt)[:, None]
+        omega = _skew(np.einsum("tai,taj->tij", du, g)) * (z.vol * z.wt)[:, None]
         out = 0.0
         start = 0
         for blk in self.model.blocks:
-            n = blk.mesh.tets.shape[0]
-            vsum = np.sum(z.vol[start:start + n] * z.wt[start:start + n])
-            out = max(out, float(np.linalg.norm(omega[start:start + n].sum(axis=0)) / vsum))
-            start += n
+            if blk.element == "zones":
+                n = blk.mesh.tets.shape[0]
+                vsum = np.sum(z.vol[start:start + n] * z.wt[start:start + n])
+                out = max(out, float(np.linalg.norm(omega[start:start + n].sum(axis=0)) / vsum))
+                start += n
+            else:           # a cell's displacement gradient at its centre: sum_a u_a (x) grad N_a
+                h = (blk.hi - blk.lo) / blk.cells
+                grads = (2.0 * np.array([[c & 1, (c >> 1) & 1, (c >> 2) & 1] for c in range(8)]) - 1.0) / (4.0 * h)
+                grad = np.einsum("cai,aj->cij", self.u[blk.mesh.cells + blk.node0], grads)
+                out = max(out, float(np.linalg.norm(_skew(grad).mean(axis=0))))
         return out
 
     # --- rigid blocks -------------------------------------------------------

@@ -8,8 +8,8 @@ import numpy as np
 
 from .blocks import GEOM_TOL
 from .errors import InputError
-from .laws import BLOCK_MODELS, JointProps
-from .masonry import (course_span, flexural_strength, joint_kn, modelled_unit, running_bond_joints,
+from .laws import BLOCK_MODELS, Elastic, JointProps
+from .masonry import (course_span, crack_plane, flexural_strength, joint_kn, modelled_unit, running_bond_joints,
                       unit_fracture_energy)
 from .model import Model
 
@@ -19,8 +19,9 @@ class Specimen:
     """What ``build`` returns beside the model."""
     model: Model
     scene: dict
-    units: list            # (course, index) of block id i
-    joints: list           # (kind, (course, index)) of joint j
+    units: list            # (course, index) of unit u
+    block_unit: np.ndarray  # unit of each block (two per unit with potential-crack interfaces)
+    joints: list           # (kind, (course, index)) of joint j: head, bed, then the units' crack interfaces
     contact_joint: np.ndarray   # joint number of each model contact
     drive: np.ndarray      # nodes whose prescribed velocity drives the test (the 'load' monitor's)
     velocity: np.ndarray   # their velocity in the loading stage (m per step)
@@ -68,36 +69,52 @@ def build(scene):
     model = BLOCK_MODELS[phys["blocks"]]
     rigid = model.rigid
     m.large = phys["displacements"] == "large"
-    units = []
-
+    units, block_unit, Gf = [], [], np.zeros(n_units)
+    cells = scene["numerics"]["cells"]
+    element = scene["numerics"]["elastic_element"] if model.material is Elastic and not rigid else "zones"
     for k in range(nk):
         x0 = course_span(g, k)[0]
         for i in range(nu):
             uid = len(units)
-            Gf = mu["Gf"]
+            Gf[uid] = mu["Gf"]
             if "gf_coefficient" in per_u:
-                Gf = float(unit_fracture_energy(f_tu[uid], per_u["gf_coefficient"], per_u["gf_exponent"]))
+                Gf[uid] = float(unit_fracture_energy(f_tu[uid], per_u["gf_coefficient"], per_u["gf_exponent"]))
             material = model.material.of(E=E_b[uid], nu=mu["nu"], density=mu["density"], ft=f_tu[uid],
-                                         c=mu["c_ratio"] * f_tu[uid], phi=mu["phi"], Gf=Gf)
-            m.add_box([x0 + i * L, 0.0, k * H], [x0 + (i + 1) * L, T, (k + 1) * H],
-                      scene["numerics"]["cells"], material, rigid=rigid)
+                                         c=mu["c_ratio"] * f_tu[uid], phi=mu["phi"], Gf=float(Gf[uid]))
+            for lo, hi, n in _pieces(x0 + i * L, L, crack_plane(g, k) if model.crack_interface else None, cells[0]):
+                m.add_box([lo, 0.0, k * H], [hi, T, (k + 1) * H], [n, cells[1], cells[2]], material, rigid=rigid,
+                          element=element)
+                block_unit.append(uid)
             units.append((k, i))
+    if model.crack_interface:
+        joints = joints + [("crack", u) for u in units]
+    block_unit = np.asarray(block_unit)
 
     def joint_of(a, b):
         """Joint number of the contact between blocks a and b."""
-        (ka, ia), (kb, ib) = units[a.id], units[b.id]
+        ua, ub = block_unit[a.id], block_unit[b.id]
+        if ua == ub:
+            return joints.index(("crack", units[ua]))
+        (ka, ia), (kb, ib) = units[ua], units[ub]
         if ka == kb:
             return joints.index(("head", (ka, min(ia, ib))))
-        upper = units[a.id] if ka > kb else units[b.id]
-        return joints.index(("bed", upper))
+        return joints.index(("bed", units[ua] if ka > kb else units[ub]))
 
     t = g["joint_thickness"]
 
     def props(a, b):
         """A joint's stiffness follows the mean E_b of the two units it
-        connects; its strength and fracture energies follow its f_tj."""
+        connects; its strength and fracture energies follow its f_tj.  A
+        unit's crack interface has the unit's strengths (f_tu, c_u, phi_u)
+        and fracture energy G_fu (G_II in the joints' ratio), and a
+        stiffness crack_kn_ratio E_b / L."""
+        ua, ub = block_unit[a.id], block_unit[b.id]
+        if ua == ub:
+            kn = mu["crack_kn_ratio"] * E_b[ua] / L
+            return JointProps(kn=kn, ks=mj["ks_ratio"] * kn, ft=f_tu[ua], c=mu["c_ratio"] * f_tu[ua], phi=mu["phi"],
+                              GI=Gf[ua], GII=mj["GII_ratio"] * Gf[ua])
         j = joint_of(a, b)
-        kn = joint_kn(0.5 * (E_b[a.id] + E_b[b.id]), mj["Em_ratio"], t)
+        kn = joint_kn(0.5 * (E_b[ua] + E_b[ub]), mj["Em_ratio"], t)
         ft = f_tj[j]
         GI = per_j["gi_per_ft"] * ft if "ft" in per_j else mj["GI"]
         return JointProps(kn=kn, ks=mj["ks_ratio"] * kn, ft=ft, c=mj["c_ratio"] * ft, phi=phi_j[j],
@@ -106,18 +123,18 @@ def build(scene):
     m.set_joints(phys["joints"], props, refine=scene["numerics"]["subcontact_refine"])
     test = scene["loading"]["test"]
     Htot = nk * H
-    blocks = {u: blk for u, blk in zip(units, m.blocks)}
+    first = {units[block_unit[blk.id]]: blk for blk in m.blocks[::-1]}    # a unit's (left) first block
+    last = {units[block_unit[blk.id]]: blk for blk in m.blocks}           # and its (right) last one
     if test == "bending":
         drive, velocity, supports = _bending(m, scene, rigid, T, Htot, E_b)
     else:
         # base roller; y held at one base node (rigid units: the bottom
         # left unit); x is held by the grips
         _roller(m, rigid, m.blocks[0].lo, dof=1)
-        ends = [(blocks[(k, 0)], blocks[(k, nu - 1)]) for k in range(nk)]
         if test == "tension":   # every course gripped at both ends
-            held, pulled = _grip(m, [lo for lo, _ in ends], 0), [hi for _, hi in ends]
+            held, pulled = _grip(m, [first[(k, 0)] for k in range(nk)], 0), [last[(k, nu - 1)] for k in range(nk)]
         else:                   # triplet: outer units held on the right, the middle one pushed on the left
-            held, pulled = _grip(m, [blocks[(0, 0)], blocks[(2, 0)]], 1), [blocks[(1, 0)]]
+            held, pulled = _grip(m, [last[(0, 0)], last[(2, 0)]], 1), [first[(1, 0)]]
         m.fix(held, dofs=[0])
         drive = _grip(m, pulled, 0 if test == "triplet" else 1)
         m.fix(drive, dofs=[0])
@@ -142,7 +159,18 @@ def build(scene):
     missing = sorted(set(range(len(joints))) - set(contact_joint.tolist()))
     if missing:
         raise InputError("geometry", f"joints {missing} touch no unit pair; check the bond")
-    return Specimen(m, scene, units, joints, contact_joint, drive, velocity, supports, E_b, f_tu, f_tj, phi_j)
+    return Specimen(m, scene, units, block_unit, joints, contact_joint, drive, velocity, supports, E_b, f_tu, f_tj,
+                    phi_j)
+
+
+def _pieces(x0, L, plane, n):
+    """The unit [x0, x0 + L] as one block of n cells along its length, or,
+    with a crack plane at x0 + plane, as two blocks meeting there, the n
+    cells shared in proportion (at least one each)."""
+    if plane is None:
+        return [(x0, x0 + L, n)]
+    n1 = min(max(1, round(n * plane / L)), max(1, n - 1))
+    return [(x0, x0 + plane, n1), (x0 + plane, x0 + L, max(1, n - n1))]
 
 
 def _roller(m, rigid, point, dof):

@@ -54,6 +54,13 @@ def zone_stiffness(stiff, tets, dn, wvol, zp, chunk=20000):
         np.add.at(stiff, t.ravel(), rows.ravel())
 
 
+def cell_stiffness_bound(stiff, cells):
+    """Adds, per node, the largest absolute row sum (over its 3 rows) of
+    each linear cell's matrix E K."""
+    rows = np.abs(cells.K).sum(axis=2).reshape(-1, 8, 3).max(axis=2)       # (nk, 8)
+    np.add.at(stiff, cells.nodes.ravel(), (cells.scale[:, None] * rows[cells.kind]).ravel())
+
+
 def _contact_rowmax(sc):
     """Per sub-contact: area times the largest absolute row sum of its
     stiffness C = k_n n n^T + k_s (t1 t1^T + t2 t2^T)."""

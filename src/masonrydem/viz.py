@@ -17,26 +17,35 @@ pv.OFF_SCREEN = True
 
 
 def zones_grid(specimen, solver=None):
-    """UnstructuredGrid of the tetrahedra of the units in the initial
-    geometry, with point data 'u' (displacement, m) and cell data 'damage'
-    (tensile, 0..1: the cell's volume-weighted mean) and 'unit' (1-based).
-    Only the first overlay of each cell is kept (the two overlays fill the
-    same cell)."""
+    """UnstructuredGrid of the units in the initial geometry: the
+    tetrahedra of zone blocks (only the first overlay of each cell: the two
+    fill the same cell) and the hexahedra of linear-cell blocks, with point
+    data 'u' (displacement, m) and cell data 'damage' (tensile, 0..1: the
+    cell's volume-weighted mean; 0 in elastic cells) and 'unit'
+    (1-based)."""
     m = specimen.model
     a = m.build()
     nb = m.n_nodes
     tets = a.zones.tets
     first = (np.arange(tets.shape[0]) % 10) < 5
-    cells = np.hstack([np.full((first.sum(), 1), 4), tets[first]]).ravel()
-    grid = pv.UnstructuredGrid(cells, np.full(first.sum(), pv.CellType.TETRA), a.nodes.x0[:nb])
-    unit = np.concatenate([np.full(blk.mesh.tets.shape[0], blk.id + 1) for blk in m.blocks])
-    grid.cell_data["unit"] = unit[first]
+    hexes = a.cells.nodes[:, [0, 1, 3, 2, 4, 5, 7, 6]]          # VTK's corner order
+    cells = np.concatenate([np.hstack([np.full((first.sum(), 1), 4), tets[first]]).ravel(),
+                            np.hstack([np.full((hexes.shape[0], 1), 8), hexes]).ravel()])
+    types = np.concatenate([np.full(first.sum(), pv.CellType.TETRA), np.full(hexes.shape[0], pv.CellType.HEXAHEDRON)])
+    grid = pv.UnstructuredGrid(cells, types, a.nodes.x0[:nb])
+    zb = [blk for blk in m.blocks if blk.element == "zones"]
+    cb = [blk for blk in m.blocks if blk.element != "zones"]
+    unit = [np.full(blk.mesh.tets.shape[0], specimen.block_unit[blk.id] + 1) for blk in zb]
+    grid.cell_data["unit"] = np.concatenate([np.concatenate(unit)[first] if unit else np.zeros(0, int)]
+                                            + [np.full(blk.mesh.cells.shape[0], specimen.block_unit[blk.id] + 1)
+                                               for blk in cb])
     grid.point_data["u"] = solver.u[:nb] if solver is not None else np.zeros((nb, 3))
     if solver is not None:
         d = solver.zone_damage()
         w = a.zones.vol * a.zones.wt
-        grid.cell_data["damage"] = np.repeat((d * w).reshape(-1, 10).sum(axis=1)
-                                             / w.reshape(-1, 10).sum(axis=1), 5)
+        with np.errstate(invalid="ignore"):
+            zd = np.repeat((d * w).reshape(-1, 10).sum(axis=1) / w.reshape(-1, 10).sum(axis=1), 5)
+        grid.cell_data["damage"] = np.concatenate([zd, np.zeros(hexes.shape[0])])
     return grid
 
 
@@ -89,9 +98,11 @@ def picture_numbering(specimen, path, window=(1600, 1000)):
     grid = zones_grid(specimen)
     p.add_mesh(grid, scalars="unit", cmap="tab20", show_scalar_bar=False)
     labels_u, pos_u = [], []
-    for blk in m.blocks:
-        pos_u.append([(blk.lo[0] + blk.hi[0]) / 2, blk.lo[1] - 0.002, (blk.lo[2] + blk.hi[2]) / 2])
-        labels_u.append(f"U{blk.id + 1}")
+    for u in range(len(specimen.units)):
+        blks = [blk for blk in m.blocks if specimen.block_unit[blk.id] == u]
+        lo, hi = blks[0].lo, blks[-1].hi
+        pos_u.append([(lo[0] + hi[0]) / 2, lo[1] - 0.002, (lo[2] + hi[2]) / 2])
+        labels_u.append(f"U{u + 1}")
     p.add_point_labels(np.array(pos_u), labels_u, font_size=14, point_size=1, shape_color="white",
                        always_visible=True)
     pos_j = np.zeros((len(specimen.joints), 3))
@@ -106,7 +117,7 @@ def picture_numbering(specimen, path, window=(1600, 1000)):
     p.add_point_labels(pos_j, [f"J{j + 1}" for j in range(len(specimen.joints))], font_size=11,
                        point_size=6, point_color="red", text_color="darkred", shape_opacity=0.6,
                        always_visible=True)
-    p.add_text(f"{specimen.scene['name']}: {len(m.blocks)} units (U), {len(specimen.joints)} joints (J)",
+    p.add_text(f"{specimen.scene['name']}: {len(specimen.units)} units (U), {len(specimen.joints)} joints (J)",
                font_size=12)
     _camera(p)
     p.screenshot(str(path))

@@ -92,6 +92,16 @@ class Zones(NamedTuple):
     stress: np.ndarray  # (nt, 6)
 
 
+class Cells(NamedTuple):
+    """Elastic hexahedral cells computed as linear (elements.py): cell c
+    adds f = -scale[c] K[kind[c]] u over its corners nodes[c] (corner
+    i + 2 j + 4 k at offset (i, j, k); degree of freedom 3 corner + d)."""
+    nodes: np.ndarray   # (nc, 8)
+    kind: np.ndarray    # (nc,)
+    scale: np.ndarray   # (nc,) the cell's Young's modulus
+    K: np.ndarray       # (nk, 24, 24) per cell shape, for E = 1
+
+
 class Contacts(NamedTuple):
     """Sub-contacts (joints, or the strips' bearings).  Sub-contact s joins
     side A and side B at one point: on deformable blocks interpolated from
@@ -134,12 +144,13 @@ class Monitors(NamedTuple):
 
 
 class Scratch(NamedTuple):
-    """Work space of the zone kernel."""
+    """Work space of the zone and cell kernels."""
     de: np.ndarray       # (group size, 6) strain increments of a group
     ev: np.ndarray       # (group size,) their volumetric parts
     pending: np.ndarray  # (nt, 2) zones that may yield: (tetrahedron, group)
     a: np.ndarray        # (3, 3) eigenvalues (diagonal)
     evec: np.ndarray     # (3, 3) eigenvectors (columns)
+    ue: np.ndarray       # (24,) a cell's corner displacements
 
 
 class Controls(NamedTuple):
@@ -159,6 +170,11 @@ def empty_zones():
                  z((0, N_ZP)), z((0, N_ZS)), z((0, 6)))
 
 
+def empty_cells():
+    z = np.zeros
+    return Cells(z((0, 8), np.int64), z(0, np.int64), z(0), z((0, 24, 24)))
+
+
 def empty_bodies():
     z = np.zeros
     return Bodies(z((0, 3, 3)), z((0, 3)), z((0, 3)), z((0, 3, 3)), z((0, 3), np.uint8), z((0, 3)), z(0),
@@ -167,4 +183,4 @@ def empty_bodies():
 
 def empty_scratch():
     z = np.zeros
-    return Scratch(z((1, 6)), z(1), z((1, 2), np.int64), z((3, 3)), z((3, 3)))
+    return Scratch(z((1, 6)), z(1), z((1, 2), np.int64), z((3, 3)), z((3, 3)), z(24))

@@ -14,6 +14,7 @@ import math
 
 from numba import literally, njit
 
+from .cells import cell_forces
 from .joints import contact_forces
 from .layout import H_KE, H_MON, H_RATIO, H_STEP, JOINT_BEARING, ST_NONFINITE, ST_OK
 from .linalg import add_force, body_vec, rotate_by
@@ -142,7 +143,7 @@ def _record_step(step, step0, hist, unbal, applied, ke, nodes, mon):
 
 
 @njit(**_CACHE)
-def run_chunk(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, joints, bearings, bodies, mon, hist,
+def run_chunk(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist,
               work, scratch):
     """Advances ``nsteps`` steps (module docstring).
 
@@ -166,6 +167,7 @@ def run_chunk(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, joints, 
             bodies.fl[:, :] = 0.0
             bodies.mom[:, :] = 0.0
         zone_forces(zlaw, dt, nodes, zones, scratch)
+        cell_forces(nodes, cells, scratch)
         contact_forces(jlaw, rigid, large, dt, nodes, bodies, joints)
         contact_forces(JOINT_BEARING, rigid, large, dt, nodes, bodies, bearings)
         if rigid:
@@ -195,10 +197,10 @@ def run_chunk(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, joints, 
 
 
 @njit(**_CACHE)
-def run_chunk_entry(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, joints, bearings, bodies, mon, hist,
-                    work, scratch):
+def run_chunk_entry(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
+                    hist, work, scratch):
     """Entry point: ``run_chunk`` specialised on the literal law ids and
     flags, so only the laws and effects a model uses are compiled (and
     cached)."""
     return run_chunk(literally(zlaw), literally(jlaw), literally(rigid), literally(large), literally(gon), nsteps,
-                     ctl, nodes, zones, joints, bearings, bodies, mon, hist, work, scratch)
+                     ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist, work, scratch)

@@ -222,7 +222,7 @@ def _zone_forces(plastic):
         tets, dn, vol, wt = zones.tets, zones.dn, zones.vol, zones.wt
         gptr, gnodes, gnptr = zones.gptr, zones.gnodes, zones.gnptr
         zp, zs, stress = zones.par, zones.state, zones.stress
-        de, ev_, pending, a, evec = scratch
+        de, ev_, pending, a, evec = scratch.de, scratch.ev, scratch.pending, scratch.a, scratch.evec
         ng = gptr.shape[0] - 1
         npend = 0
         for g in range(ng):
