@@ -26,19 +26,19 @@ def test_richardson_refuses_non_monotone_levels():
 
 
 def test_reference_evidence():
-    """Last two levels within 0.5 %: the finest is the reference; otherwise
-    Richardson; otherwise the mean of the three finest if they agree within
-    +-1 %; otherwise flagged as not converged."""
-    path = pd.DataFrame(dict(cells_n=[4, 8, 16], P_max_kN=[12.0, 10.2, 10.19]))
-    assert accuracy.reference(path)["reference_kN"] == 10.19
+    """A path has converged when its two finest levels lie within 1 %: the
+    reference is then the Richardson limit of the three finest (with the
+    observed order), or the finest level when they are not monotone; a
+    path whose two finest differ by more is flagged and its finest level
+    stands."""
     n = np.array([4, 8, 16])
-    r = accuracy.reference(pd.DataFrame(dict(cells_n=n, P_max_kN=5 + 8.0 / n)))
+    r = accuracy.reference(pd.DataFrame(dict(cells_n=n, P_max_kN=5 + 0.8 / n)))
     assert r["reference_kN"] == pytest.approx(5.0) and r["order"] == pytest.approx(1.0)
-    r = accuracy.reference(pd.DataFrame(dict(cells_n=n, P_max_kN=[5.0, 4.0, 4.5])))
-    assert r["method"].startswith("NOT CONVERGED")
-    # scattered but converged: the three finest within +-1 % of their mean
-    r = accuracy.reference(pd.DataFrame(dict(cells_n=[4, 8, 12, 16], P_max_kN=[12.0, 10.0, 10.15, 10.05])))
-    assert r["reference_kN"] == pytest.approx(30.2 / 3) and r["method"].startswith("mean of the three finest")
+    assert r["method"].startswith("Richardson") and r["last_two_diff"] == pytest.approx(0.05 / 5.05)
+    r = accuracy.reference(pd.DataFrame(dict(cells_n=n, P_max_kN=[5.0, 4.97, 4.99])))
+    assert r["reference_kN"] == 4.99 and r["method"].startswith("finest level")
+    r = accuracy.reference(pd.DataFrame(dict(cells_n=n, P_max_kN=5 + 8.0 / n)))
+    assert r["method"].startswith("NOT CONVERGED") and r["reference_kN"] == 5.5
 
 
 def test_pareto_front():

@@ -218,31 +218,33 @@ def test_design_table_and_caption():
 
 
 def _sweep():
-    """Case a's path c1, c2, c4 (the last two within 0.5 %: reference
-    10.0 kN) and the defaults; case b not converged; rate_x around the
+    """Case a's path p1, p2, p4 (the two finest within 0.2 %, the three
+    finest not monotone: reference 10.0 kN), a candidate c (+0.2 %, 2 s)
+    and the defaults (+1 %); case b not converged; rate_x around the
     defaults, twice the time."""
     rows = [dict(case="a", setting=s, P_max_kN=p, failure_mode="joint", ok=True, status="load_drop", steps=100,
-                 wall_time_s=t, cells=c, subcontact_refine=1, tets=1, subcontacts=1, units=24)
-            for s, p, t, c in (("c1x1x1_r1", 12.0, 1.0, "1x1x1"), ("c2x1x1_r1", 10.02, 2.0, "2x1x1"),
-                               ("c4x1x1_r1", 10.0, 4.0, "4x1x1"), ("default", 10.1, 3.0, "8x6x2"),
+                 wall_time_s=t, blocks="elasto-plastic", cells=c, subcontact_refine=1, tets=1, subcontacts=1,
+                 units=24)
+            for s, p, t, c in (("p1", 9.9, 1.0, "1x1x1"), ("p2", 10.02, 5.0, "2x1x1"), ("p4", 10.0, 9.0, "4x1x1"),
+                               ("c", 10.02, 2.0, "2x1x1"), ("default", 10.1, 3.0, "8x6x2"),
                                ("rate_x", 10.2, 6.0, "8x6x2"))]
-    rows += [dict(r, case="b", P_max_kN=p) for r, p in zip(rows, (5.0, 4.0, 4.5, 4.2, 4.2))]
-    table, conv = accuracy.sweep_table(rows, ["a", "b"], ["c1x1x1_r1", "c2x1x1_r1", "c4x1x1_r1"], band=0.01)
-    return table, conv
+    rows += [dict(r, case="b", P_max_kN=p) for r, p in zip(rows, (5.0, 4.0, 4.5, 4.2, 4.2, 4.2))]
+    return accuracy.sweep_table(rows, ["a", "b"], ["p1", "p2", "p4"], ["c"], 0.01)
 
 
 def test_accuracy_convergence_and_choice():
     table, conv = _sweep()
     assert accuracy.judged_cases(conv) == ["a"]
+    assert table.set_index(["case", "setting"]).loc[("a", "rate_x"), "kind"] == "one-at-a-time"
     choice = accuracy.choose(table, conv, 0.02)
-    # judged on case a: c2 (+0.2 %, 2 s) is the cheapest within 2 %, the defaults (+1 %) beside it
-    assert choice.loc[choice.knee, "setting"].tolist() == ["c2x1x1_r1"]
+    # judged on case a: c (+0.2 %, 2 s) is the cheapest candidate within 2 %, the defaults (+1 %) beside it
+    assert choice.loc[choice.knee, "setting"].tolist() == ["c"]
     assert choice.set_index("setting").loc["default", "max_abs_error"] == pytest.approx(0.01)
     conv_text = fill("accuracy_convergence", captions.accuracy_convergence(conv))
-    assert "- a: **10.000 kN** (joint failure), last two levels within 0.5 %" in conv_text
+    assert "- a: **10.000 kN** (joint failure), finest level (two finest within 0.20 %" in conv_text
     values = captions.accuracy_choice(table, conv, choice, {"rate_x": "default"}, 0.02, ["numerics.cells=[8, 6, 2]"])
     assert values["cases"] == "a; not judged, no converged reference: b"
-    assert values["knee"] == "**c2x1x1_r1**, largest error 0.20 %, modes right, 2.0 s"
+    assert values["knee"] == "**c**, largest error 0.20 %, modes right, 2.0 s"
     assert values["default"] == "**default**, largest error 1.00 %, modes right, 3.0 s"
     assert values["oat"] == "- rate_x: a +0.99 % in 2.00 x the time; b +0.00 % in 2.00 x the time"
     assert "(config/config.yaml, ``numerics``: numerics.cells=[8, 6, 2])" in fill("accuracy_choice", values)

@@ -7,7 +7,7 @@ import pyvista as pv
 import pytest
 
 WILLIS = "config/scenes/willis.yaml"
-SMALL = ["--set", "numerics.cells=[2, 1, 1]", "--set", "loading.bending.rate=2e-7",
+SMALL = ["--set", "numerics.cells=[3, 1, 1]", "--set", "loading.bending.rate=2e-7",
          "--set", "loading.bending.ramp_steps=500"]
 
 
@@ -38,17 +38,21 @@ def test_result_row(run_dir):
 
 
 def test_curve_keeps_the_peak(run_dir):
+    """The curve holds the peak's point exactly; a higher load on it is
+    one the load's own unbalance disqualifies (a dynamic overshoot)."""
     row = pd.read_parquet(run_dir / "result.parquet").iloc[0]
     curve = pd.read_parquet(run_dir / "curve.parquet")
     assert 10 <= len(curve) <= 410
-    assert curve["load_kN"].max() == row["P_max_kN"]
+    assert (curve["load_kN"] == row["P_max_kN"]).sum() == 1
+    from masonrydem.solver import PEAK_UNBALANCE
+    assert (curve.loc[curve["load_kN"] > row["P_max_kN"], "unbalance"] >= PEAK_UNBALANCE).all()
     assert curve["displacement_mm"].is_monotonic_increasing
 
 
 def test_state_is_readable(run_dir):
     state = pv.read(run_dir / "state.vtm")
     zones, joints = state["zones"], state["joints"]
-    assert zones.n_cells == 24 * 2 * 5 and set(zones.cell_data["unit"]) == set(range(1, 25))
+    assert zones.n_cells == 24 * 3 * 5 and set(zones.cell_data["unit"]) == set(range(1, 25))
     assert 0 <= zones.cell_data["damage"].min() and zones.cell_data["damage"].max() <= 1
     assert set(joints.point_data["joint"]) == set(range(1, 39))
     assert "u" in zones.point_data

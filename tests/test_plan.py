@@ -9,10 +9,10 @@ from masonrydem import plan
 NUMERICS = ["numerics.cells=[8, 6, 2]", "numerics.subcontact_refine=1", "loading.bending.rate=2.5e-8"]
 ACCURACY = dict(
     cases=[{"name": "a", "overrides": []}, {"name": "b", "overrides": ["materials.joints.ft=1.0e6"]}],
-    cells=[[1, 1, 1], [2, 1, 1]], subcontact_refine=[1, 2], path_cells=[[4, 2, 2]],
-    extra_cells=[[3, 2, 1]], extra_refine=[1],
+    path={"overrides": ["loading.bending.rate=1e-8"], "cells": [[1, 1, 1], [3, 1, 1], [5, 2, 2]]},
+    candidates=[{"name": "pc", "overrides": ["physics.blocks=potential-crack", "numerics.cells=[2, 2, 2]"]}],
     settings=[{"name": "rate", "key": "loading.bending.rate", "values": [1e-7]},
-              {"name": "safety", "key": "numerics.safety", "values": [0.5], "around": "c2x1x1_r2", "cases": ["b"]}],
+              {"name": "safety", "key": "numerics.safety", "values": [0.5], "around": "pc", "cases": ["b"]}],
     tolerance=0.02, subsample={"n_samples": 2, "precompression_mpa": [0.0], "fine": ["numerics.cells=[3, 1, 1]"]},
     scaling_courses=[2, 4])
 
@@ -26,47 +26,42 @@ def test_effective_keeps_the_last_of_each_key_in_order():
     assert plan.effective([], []) == []
 
 
-def test_accuracy_grid_settings_and_their_mesh_overrides():
-    """The grid cells x sub-contact refinements, the extra candidates at
-    their refinements, and the further path levels at the finest
-    refinement only."""
-    grid = plan.accuracy_grid(ACCURACY)
-    assert list(grid) == ["c1x1x1_r1", "c1x1x1_r2", "c2x1x1_r1", "c2x1x1_r2", "c3x2x1_r1", "c4x2x2_r2"]
-    assert grid["c4x2x2_r2"] == ["numerics.cells=[4, 2, 2]", "numerics.subcontact_refine=2"]
-    assert grid["c3x2x1_r1"] == ["numerics.cells=[3, 2, 1]", "numerics.subcontact_refine=1"]
+def test_accuracy_settings_per_case():
+    """The path levels (the path's overrides and their cells), the
+    candidates, the defaults (no override) and each one-at-a-time value; a
+    setting limited to some cases runs only there, around its candidate."""
+    a = plan.accuracy_settings(ACCURACY, "a")
+    assert list(a) == ["path_c1x1x1", "path_c3x1x1", "path_c5x2x2", "pc", "default", "rate_1e-07"]
+    assert a["path_c5x2x2"] == ["loading.bending.rate=1e-8", "numerics.cells=[5, 2, 2]"]
+    assert a["rate_1e-07"] == ["loading.bending.rate=1e-07"]
+    assert plan.accuracy_settings(ACCURACY, "b")["safety_0.5"] == [
+        "physics.blocks=potential-crack", "numerics.cells=[2, 2, 2]", "numerics.safety=0.5"]
+    assert plan.accuracy_baselines(_config()) == {"rate_1e-07": "default", "safety_0.5": "pc"}
 
 
-def test_one_at_a_time_settings_per_case():
-    """The defaults (no override) and each setting's values; a setting
-    limited to some cases runs only there, around its grid setting."""
-    assert plan.accuracy_oat(ACCURACY, "a") == {"default": [], "rate_1e-07": ["loading.bending.rate=1e-07"]}
-    assert plan.accuracy_oat(ACCURACY, "b")["safety_0.5"] == [
-        "numerics.cells=[2, 1, 1]", "numerics.subcontact_refine=2", "numerics.safety=0.5"]
-    assert plan.accuracy_baselines(_config()) == {"rate_1e-07": "default", "safety_0.5": "c2x1x1_r2"}
-
-
-def test_around_must_name_a_grid_setting():
-    bad = {**ACCURACY, "settings": [{"name": "s", "key": "numerics.safety", "values": [1], "around": "c9x9x9_r1"}]}
-    with pytest.raises(ValueError, match="c9x9x9_r1"):
-        plan.accuracy_oat(bad, "a")
+def test_around_must_name_a_candidate_or_a_path_level():
+    bad = {**ACCURACY, "settings": [{"name": "s", "key": "numerics.safety", "values": [1], "around": "nope"}]}
+    with pytest.raises(ValueError, match="nope"):
+        plan.accuracy_settings(bad, "a")
 
 
 def test_accuracy_runs_and_their_overrides():
-    """Case a: 6 grid settings + default + rate; case b: + safety.  A mesh
-    setting replaces the defaults' cells and refinement, keeps the rest."""
+    """Case a: 3 path levels + 1 candidate + default + rate; case b: + safety.
+    A path level replaces the defaults' rate and cells, keeps the rest."""
     runs = plan.accuracy_runs(_config())
-    assert len(runs) == 8 + 9 and runs[0] == ("a", "c1x1x1_r1") and runs[-1] == ("b", "safety_0.5")
+    assert len(runs) == 6 + 7 and runs[0] == ("a", "path_c1x1x1") and runs[-1] == ("b", "safety_0.5")
     assert plan.accuracy_cases(_config()) == ["a", "b"]
-    assert plan.accuracy_overrides(_config(), "b", "c4x2x2_r2") == [
-        "loading.bending.rate=2.5e-8", "materials.joints.ft=1.0e6", "numerics.cells=[4, 2, 2]",
-        "numerics.subcontact_refine=2"]
+    assert plan.accuracy_overrides(_config(), "b", "path_c3x1x1") == [
+        "numerics.subcontact_refine=1", "materials.joints.ft=1.0e6", "loading.bending.rate=1e-8",
+        "numerics.cells=[3, 1, 1]"]
     assert plan.accuracy_overrides(_config(), "a", "default") == NUMERICS
     assert plan.accuracy_overrides(_config(), "a", "rate_1e-07") == NUMERICS[:2] + ["loading.bending.rate=1e-07"]
 
 
-def test_path_and_scaling_settings():
-    assert plan.path_settings(_config()) == ["c1x1x1_r2", "c2x1x1_r2", "c4x2x2_r2"]
-    assert plan.scaling_settings(_config()) == ["c1x1x1_r1", "c2x1x1_r1"]
+def test_path_candidate_and_scaling_settings():
+    assert plan.path_settings(_config()) == ["path_c1x1x1", "path_c3x1x1", "path_c5x2x2"]
+    assert plan.candidate_settings(_config()) == ["pc"]
+    assert plan.scaling_settings(_config()) == plan.path_settings(_config())
     assert plan.scaling_courses(_config()) == [2, 4]
     assert plan.scaling_overrides(_config(), "4") == NUMERICS + ["geometry.courses=4"]
     assert plan.subsample_fine(_config()) == ["numerics.cells=[3, 1, 1]"]
@@ -75,6 +70,7 @@ def test_path_and_scaling_settings():
 def test_no_accuracy_study_plans_nothing_of_it():
     config = {"numerics": NUMERICS}
     assert plan.accuracy_runs(config) == [] and plan.path_settings(config) == [] and plan.scaling_settings(config) == []
+    assert plan.candidate_settings(config) == []
     assert plan.accuracy_baselines(config) == {} and plan.subsample_fine(config) == []
     assert plan.accuracy_cases(config) == []
 
@@ -120,14 +116,17 @@ def test_specimens_and_study_pictures():
 
 
 def test_the_projects_config_plans_its_accuracy_study():
-    """config/config.yaml: per case the 30 mesh settings (5 cells x 3
-    refinements, 7 extra x 2, one further path level) and the defaults
-    with 10 one-at-a-time values; ratio_tol (2) runs on joint_sv05 only,
-    rate_fine (2) on brick_sv0 only: 41 + 43 + 43 = 127 runs."""
+    """config/config.yaml: per case the 6 path levels, 10 candidates, the
+    defaults and 7 one-at-a-time values (plus ratio_tol under
+    precompression): 24 + 25 + 24 + 25 = 98 runs; the brick cases' path
+    levels run the elasto-plastic model at half the study's rate (their
+    path_overrides), the joint cases' at the study's rate."""
     config = yaml.safe_load(open("config/config.yaml"))
     runs = plan.accuracy_runs(config)
-    assert len(runs) == 127 and len(set(runs)) == 127
-    assert {s for c, s in runs if c == "joint_sv0"} >= {"c16x8x8_r4", "c8x6x2_r2", "default", "rate_1e-07"}
+    assert len(runs) == 98 and len(set(runs)) == 98
+    assert {s for c, s in runs if c == "joint_sv0"} >= {"path_c17x8x6", "pc_c4x4x3_r2", "default", "rate_5e-08"}
     assert ("joint_sv05", "ratio_tol_1e-06") in runs and ("joint_sv0", "ratio_tol_1e-06") not in runs
-    assert plan.accuracy_overrides(config, "brick_sv0", "rate_fine_6.25e-09")[-3:] == [
-        "numerics.cells=[12, 6, 6]", "numerics.subcontact_refine=2", "loading.bending.rate=6.25e-09"]
+    assert "loading.bending.rate=2.5e-8" in plan.accuracy_overrides(config, "joint_sv0", "path_c17x8x6")
+    o = plan.accuracy_overrides(config, "brick_sv0", "path_c17x8x6")
+    assert "loading.bending.rate=1.25e-8" in o and "physics.blocks=elasto-plastic" in o
+    assert o[-1] == "numerics.cells=[17, 8, 6]"

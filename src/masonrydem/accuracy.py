@@ -2,8 +2,7 @@
 of error against run time, the knee, and power-law cost fits.
 
 A sweep table has one row per run with at least: case, setting, P_max_kN,
-failure_mode, ok, wall_time_s; grid runs also cells_n (cells along a unit's
-length) and refine (sub-contact refinement).
+failure_mode, ok, wall_time_s, cells (cells per unit, e.g. '7x3x2').
 """
 import numpy as np
 import pandas as pd
@@ -36,32 +35,28 @@ def richardson(n, P):
     return float(P[2] - C * h[2] ** p), float(p)
 
 
-def reference(path, band=0.01):
+def reference(path, tolerance=0.01):
     """Converged reference of one case from its refinement path (a table of
-    cells_n and P_max_kN at the finest sub-contact refinement).  Evidence,
-    in order: the last two levels within 0.5 % (the finest level); a
-    Richardson estimate from the three finest, when they are monotone; the
-    mean of the three finest when they all lie within +-``band`` of it
-    (a converged but scattered path: the band is the reference's
-    uncertainty); else the finest level, flagged as not converged."""
+    cells_n and P_max_kN, coarse to fine).  The path has converged when its
+    two finest levels lie within ``tolerance`` of each other; the reference
+    is then the Richardson limit of the three finest levels when they are
+    monotone (with its observed order), else the finest level.  A path
+    whose two finest levels differ by more is flagged NOT CONVERGED (its
+    finest level stands, and judges no setting)."""
     path = path.sort_values("cells_n")
     n, P = path["cells_n"].to_numpy(float), path["P_max_kN"].to_numpy(float)
     last_two = abs(P[-1] - P[-2]) / abs(P[-1]) if len(P) >= 2 else np.nan
     P_inf, p = richardson(n[-3:], P[-3:]) if len(P) >= 3 else (np.nan, np.nan)
-    mean3 = P[-3:].mean()
-    spread = np.max(np.abs(P[-3:] / mean3 - 1.0)) if len(P) >= 3 else np.nan
-    if last_two <= 0.005:
-        value, method = P[-1], "last two levels within 0.5 %"
+    if not last_two <= tolerance:
+        value, method = P[-1], f"NOT CONVERGED: the two finest levels differ by {100 * last_two:.2f} %"
     elif np.isfinite(P_inf):
-        value, method = P_inf, f"Richardson, three finest levels (order {p:.2f})"
-    elif spread <= band:
-        value, method = mean3, (f"mean of the three finest levels, which lie within +-{100 * spread:.2f} % of it "
-                                "(not monotone: no Richardson estimate)")
+        value, method = P_inf, (f"Richardson limit of the three finest levels (observed order {p:.2f}; "
+                                f"two finest within {100 * last_two:.2f} %)")
     else:
-        value, method = P[-1], "NOT CONVERGED: finest level"
+        value, method = P[-1], (f"finest level (two finest within {100 * last_two:.2f} %, three finest not "
+                                "monotone: no observed order)")
     return dict(reference_kN=float(value), method=method, order=p, finest_kN=float(P[-1]),
-                finest_n=int(n[-1]), last_two_diff=float(last_two), spread3=float(spread),
-                finest_error=float(P[-1] / value - 1.0))
+                finest_n=int(n[-1]), last_two_diff=float(last_two), finest_error=float(P[-1] / value - 1.0))
 
 
 def pareto_front(cost, error):
@@ -151,20 +146,23 @@ def compare_subsample(default, fine):
     return pd.DataFrame(rows)
 
 
-def sweep_table(rows, cases, path, band=0.01):
+def sweep_table(rows, cases, path, candidates, tolerance=0.01):
     """The sweep's rows (one per run: case, setting and the run's result)
     with, per case, the error against the converged reference (from the
-    settings of the refinement ``path``) and whether the failure mode is the
-    reference's (that of the finest path run).  Returns (table, convergence)
-    where convergence has one row per case."""
+    settings of the refinement ``path``, accuracy.reference) and whether
+    the failure mode is the reference's (that of the finest path run); the
+    ``candidates`` flagged.  Returns (table, convergence) where convergence
+    has one row per case."""
     t = pd.DataFrame(rows)
     t["cells_n"] = t["cells"].str.split("x").str[0].astype(int)
-    t["grid"] = t["setting"].str.match(r"^c\d+x\d+x\d+_r\d+$")
+    t["candidate"] = t["setting"].isin(candidates)
+    t["kind"] = np.where(t.candidate, "candidate", np.where(t.setting.isin(path), "path", np.where(
+        t.setting == "default", "default", "one-at-a-time")))
     conv = []
     for case in cases:
         c = t[t.case == case]
         runs = c[c.setting.isin(path) & c.ok].sort_values("cells_n")
-        ref = reference(runs, band)
+        ref = reference(runs, tolerance)
         finest = runs.iloc[-1]
         conv.append(dict(case=case, **ref, reference_mode=finest.failure_mode,
                          levels=" ".join(f"{s}:{p:.4g}" for s, p in zip(runs.setting, runs.P_max_kN))))
@@ -180,11 +178,11 @@ def judged_cases(conv):
 
 
 def choose(table, conv, tolerance):
-    """Per setting, over the judged cases: the knee among the mesh settings
-    (the grid) and the defaults beside them (knee False), by cost, with a
-    'default' column."""
+    """Per setting, over the judged cases: the knee among the candidates
+    and the defaults beside them (knee False), by cost, with a 'default'
+    column."""
     judge = table[table.case.isin(judged_cases(conv))]
-    choice = knee(judge[judge.grid], tolerance)
+    choice = knee(judge[judge.candidate], tolerance)
     default = knee(judge[judge.setting == "default"], tolerance).assign(knee=False)
     choice = pd.concat([choice, default], ignore_index=True).sort_values("total_time_s", kind="stable")
     choice["default"] = choice.setting == "default"

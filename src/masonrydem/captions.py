@@ -233,8 +233,8 @@ def accuracy_convergence(conv):
 def accuracy_choice(table, conv, choice, baselines, tolerance, numerics):
     """The knee and the defaults (accuracy.choose), and each one-at-a-time
     setting's change of P_max (and mode) and run time against the setting
-    it varies (``baselines``: the defaults, or the grid setting it is
-    'around'), per case."""
+    it varies (``baselines``: the defaults, or the candidate or path level
+    it is 'around'), per case."""
     def describe(setting):
         if not (choice.setting == setting).any():
             return f"**{setting}**, not judged (no case has a converged reference)"
@@ -244,7 +244,7 @@ def accuracy_choice(table, conv, choice, baselines, tolerance, numerics):
 
     oat = []
     runs = table.set_index(["setting", "case"])
-    for setting, g in table[~table.grid & (table.setting != "default")].groupby("setting", sort=False):
+    for setting, g in table[table.kind == "one-at-a-time"].groupby("setting", sort=False):
         around = baselines[setting]
         parts = []
         for r in g.itertuples():

@@ -159,7 +159,7 @@ def design_comparison(design, simulated, path):
 
 def accuracy_pareto(table, conv, choice, tolerance, path):
     """Per case: |error| of P_max against run time for every setting; the
-    grid (cells x sub-contacts) coloured by sub-contact refinement, the
+    candidates coloured by block model, the refinement path black, the
     one-at-a-time variations grey; the Pareto front, the tolerance, the knee
     and the defaults marked."""
     from .accuracy import pareto_front
@@ -171,12 +171,14 @@ def accuracy_pareto(table, conv, choice, tolerance, path):
     for ax, case in zip(axes[0], cases):
         c = table[(table.case == case) & table.ok].copy()
         c["abs_err"] = 100 * c.error.abs().clip(lower=1e-3)
-        for k, (r, g) in enumerate(c[c.grid].groupby("subcontact_refine")):
-            ax.scatter(g.wall_time_s, g.abs_err, color=colors[k], label=f"sub-contacts x{r}", zorder=3)
+        groups = [(f"candidates: {m}", g) for m, g in c[c.kind == "candidate"].groupby("blocks")]
+        for k, (label, g) in enumerate(groups + [("refinement path", c[c.kind == "path"])]):
+            ax.scatter(g.wall_time_s, g.abs_err, color=colors[k] if label != "refinement path" else "k", label=label,
+                       zorder=3)
             for _, row in g.iterrows():
-                ax.annotate(row.cells, (row.wall_time_s, row.abs_err), fontsize=6, xytext=(3, 2),
+                ax.annotate(row.setting, (row.wall_time_s, row.abs_err), fontsize=6, xytext=(3, 2),
                             textcoords="offset points")
-        o = c[~c.grid & (c.setting != "default")]
+        o = c[c.kind == "one-at-a-time"]
         ax.scatter(o.wall_time_s, o.abs_err, color="0.6", marker="s", s=14, label="one-at-a-time", zorder=2)
         for _, row in o.iterrows():
             ax.annotate(row.setting, (row.wall_time_s, row.abs_err), fontsize=6, color="0.4", xytext=(3, -6),

@@ -82,9 +82,12 @@ def crack_plane(geometry, k):
     """Where a line crack crosses a unit of course k: the distance from its
     left end of the plane in line with the head joints of the courses
     above and below (b L in courses shifted by the bond offset b L against
-    the course below, (1 - b) L in the others; L / 2 for half bond)."""
+    the course below, (1 - b) L in the others; L / 2 for half bond, and in
+    stack bond, where no head joint crosses a unit)."""
     L = modelled_unit(geometry)[0]
     b = geometry["bond_offset"]
+    if not 0.0 < b < 1.0:       # stack bond: the head joints line up; a unit cracks at mid-length
+        return 0.5 * L
     return (1.0 - b) * L if k % 2 else b * L
 
 

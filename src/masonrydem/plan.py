@@ -79,62 +79,44 @@ def study_pictures(config):
     return [(v, m) for v in config["study"]["variants"] for m in ("joint", "brick")]
 
 
-# --- the accuracy study (issue 5) -------------------------------------------
-def grid_setting(cells, refine):
-    """Setting id of a mesh: cells per unit and sub-contact refinement."""
-    return "c{}x{}x{}_r{}".format(*cells, refine)
-
-
-def _mesh(cells, refine):
-    return [f"numerics.cells={list(cells)}", f"numerics.subcontact_refine={refine}"]
-
-
-def path_cells(acc):
-    """The refinement path (run at the finest sub-contact refinement)."""
-    return acc["cells"] + acc["path_cells"]
+# --- the accuracy study (issues 5, 22) -----------------------------------------
+def path_setting(cells):
+    """Setting id of a level of the refinement path."""
+    return "path_c{}x{}x{}".format(*cells)
 
 
 def path_settings(config):
-    """Setting ids of the refinement path, which give each case's converged
-    reference."""
+    """Setting ids of the refinement path (the elasto-plastic model, each
+    case's converged reference), coarse to fine."""
     acc = config.get("accuracy")
-    return [grid_setting(c, max(acc["subcontact_refine"])) for c in path_cells(acc)] if acc else []
+    return [path_setting(c) for c in acc["path"]["cells"]] if acc else []
 
 
-def scaling_settings(config):
-    """Setting ids of the grid cells at the coarsest sub-contact refinement
-    (run time against the cells per edge)."""
+def candidate_settings(config):
+    """Setting ids of the candidates for the defaults."""
     acc = config.get("accuracy")
-    return [grid_setting(c, min(acc["subcontact_refine"])) for c in acc["cells"]] if acc else []
+    return [c["name"] for c in acc["candidates"]] if acc else []
 
 
-def accuracy_grid(acc):
-    """Setting id -> mesh overrides: the grid cells x sub-contacts, the
-    extra candidates and the finer path levels (on top of config numerics,
-    like every accuracy run: the references then have the defaults' loading
-    rate and stops, and the defaults' error is the mesh error alone)."""
-    out = {}
-    for cells, refines in ((acc["cells"], acc["subcontact_refine"]), (acc["extra_cells"], acc["extra_refine"]),
-                           (path_cells(acc)[len(acc["cells"]):], [max(acc["subcontact_refine"])])):
-        for c in cells:
-            for r in refines:
-                out[grid_setting(c, r)] = _mesh(c, r)
-    return out
-
-
-def accuracy_oat(acc, case):
-    """Setting id -> overrides of the defaults themselves and of one
-    setting changed at a time, around the defaults or around the grid
-    setting named by 'around' (e.g. the loading rate on a fine mesh)."""
-    out = {"default": []}
-    grid = accuracy_grid(acc)
+def accuracy_settings(acc, case):
+    """Setting id -> overrides (after config 'numerics' and the case's) of
+    every run of ``case``: the path levels (the path's overrides and their
+    cells), the candidates, the defaults themselves ('default') and one
+    setting changed at a time around the defaults or around the candidate
+    or path level named by 'around'.  A case's 'path_overrides' apply to its
+    path levels only."""
+    own = next(c.get("path_overrides", []) for c in acc["cases"] if c["name"] == case)
+    path = {path_setting(c): [*acc["path"]["overrides"], *own, f"numerics.cells={list(c)}"]
+            for c in acc["path"]["cells"]}
+    named = {**path, **{c["name"]: list(c["overrides"]) for c in acc["candidates"]}}
+    out = {**named, "default": []}
     for s in acc["settings"]:
-        if "around" in s and s["around"] not in grid:
-            raise ValueError(f"config accuracy.settings {s['name']}.around: {s['around']!r} is not a grid setting "
-                             f"(cells x subcontact_refine, extra_cells x extra_refine, path_cells)")
+        if "around" in s and s["around"] not in named:
+            raise ValueError(f"config accuracy.settings {s['name']}.around: {s['around']!r} is neither a candidate "
+                             "nor a path level")
         if case in s.get("cases", [c["name"] for c in acc["cases"]]):
             for v in s["values"]:
-                out[f"{s['name']}_{v}"] = [*grid.get(s.get("around"), []), f"{s['key']}={v}"]
+                out[f"{s['name']}_{v}"] = [*named.get(s.get("around"), []), f"{s['key']}={v}"]
     return out
 
 
@@ -150,22 +132,24 @@ def accuracy_cases(config):
 
 
 def accuracy_runs(config):
-    """(case, setting) of every accuracy run: per case the grid, then the
-    defaults and the one-at-a-time settings."""
+    """(case, setting) of every accuracy run."""
     acc = config.get("accuracy")
-    return [(c["name"], s) for c in acc["cases"] for s in [*accuracy_grid(acc), *accuracy_oat(acc, c["name"])]] \
-        if acc else []
+    return [(c["name"], s) for c in acc["cases"] for s in accuracy_settings(acc, c["name"])] if acc else []
 
 
 def accuracy_overrides(config, case, setting):
     acc = config["accuracy"]
-    return effective(config["numerics"], _by_name(acc["cases"])[case],
-                     {**accuracy_grid(acc), **accuracy_oat(acc, case)}[setting])
+    return effective(config["numerics"], _by_name(acc["cases"])[case], accuracy_settings(acc, case)[setting])
 
 
 def scaling_courses(config):
     acc = config.get("accuracy")
     return acc["scaling_courses"] if acc else []
+
+
+def scaling_settings(config):
+    """The path levels, whose run time gives the cost against the cells per edge."""
+    return path_settings(config)
 
 
 def scaling_overrides(config, courses):

@@ -13,7 +13,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
+from threadpoolctl import threadpool_limits
 
 from . import __version__, source_hash
 from . import kernels as K
@@ -61,13 +61,27 @@ def inputs_row(specimen):
         f_tj_mpa=float(np.mean(specimen.f_tj)) / 1e6,
         phi_j_deg=float(np.mean(specimen.phi_j)),
         units=len(specimen.units),
+        blocks=sc["physics"]["blocks"],
+        elastic_element=sc["numerics"]["elastic_element"],
         cells="x".join(str(c) for c in sc["numerics"]["cells"]),
         subcontact_refine=sc["numerics"]["subcontact_refine"],
     )
 
 
 def run_scene(scene, progress=True):
-    """Runs a validated scene.  Returns (row, curve, specimen, solver)."""
+    """``simulate`` with the curve as a pandas DataFrame."""
+    import pandas as pd
+    row, curve, specimen, solver = simulate(scene, progress)
+    return row, pd.DataFrame(curve), specimen, solver
+
+
+def simulate(scene, progress=True):
+    """Runs a validated scene.  Returns (row, curve, specimen, solver), the
+    curve a dict of arrays (step, displacement_mm, load_kN, ratio,
+    unbalance).  BLAS (the linear cells' matrix products) runs on one
+    thread: a run is one job of one thread, and its results do not depend
+    on the machine's core count."""
+    threadpool_limits(limits=1, user_api="blas")
     t0 = time.perf_counter()
     specimen = build(scene)
     num, load = scene["numerics"], scene["loading"]
@@ -116,8 +130,8 @@ def run_scene(scene, progress=True):
     after = P[(u >= peak_u) & (u <= peak_u + DROP_WINDOW)]
     drop = 1.0 - after.min() / peak_P if after.size and peak_P > 0 else math.nan
     idx = downsample(u, P, scene["outputs"]["curve_points"]) if H.shape[0] else slice(0)
-    curve = pd.DataFrame(dict(step=step[idx].astype(np.int64), displacement_mm=(u[idx] - u0) * 1e3,
-                              load_kN=P[idx] / 1e3, ratio=ratio[idx], unbalance=unbalance[idx]))
+    curve = dict(step=step[idx].astype(np.int64), displacement_mm=(u[idx] - u0) * 1e3, load_kN=P[idx] / 1e3,
+                 ratio=ratio[idx], unbalance=unbalance[idx])
     out = scene["outputs"]
     row.update(
         P_max_kN=peak_P / 1e3,
@@ -146,6 +160,17 @@ def run_scene(scene, progress=True):
     return row, curve, specimen, s
 
 
+def read_json(path):
+    import json
+    return json.loads(Path(path).read_text())
+
+
+def write_json(path, obj):
+    """``obj`` as JSON (NaN as NaN: Python's json reads it back), atomically."""
+    import json
+    atomic_write(path, lambda p: Path(p).write_text(json.dumps(obj)))
+
+
 def atomic_write(path, write):
     path = Path(path)
     tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
@@ -157,6 +182,7 @@ def write_outputs(out_dir, row, curve, specimen=None, solver=None, state=False):
     """DIR/result.parquet (one row), DIR/curve.parquet and, with ``state``,
     DIR/state.vtm (the final state, deformed mesh with zone and joint
     damage)."""
+    import pandas as pd
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     atomic_write(out_dir / "result.parquet", lambda p: pd.DataFrame([row]).to_parquet(p, index=False))

@@ -115,13 +115,10 @@ def study_samples(n, seed, n_units=24, n_joints=38):
     return nonspatial, pd.DataFrame(rows), achieved
 
 
-def sample_inputs(sample):
-    """The random inputs of one sample (a row of either table of
-    study_samples) as a run's row reports them: E_b_mpa, f_tu_mpa, f_tj_mpa
-    (MPa), phi_j_deg; the means over units and joints for the spatial
-    variant.  For the row of a run that failed before its specimen existed."""
-    return dict(E_b_mpa=float(np.mean(sample["E_b"])) / 1e6, f_tu_mpa=float(np.mean(sample["f_tu"])) / 1e6,
-                f_tj_mpa=float(np.mean(sample["f_tj"])) / 1e6, phi_j_deg=float(np.mean(sample["phi_j"])))
+def records(table):
+    """A table of study_samples as a list of plain dicts (JSON): one per
+    sample, arrays as lists."""
+    return [{k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in r.items()} for r in table.to_dict("records")]
 
 
 def sampling_check(nonspatial, achieved, variables=STUDY_VARIABLES):

@@ -142,13 +142,11 @@ class Solver:
         self.dt, self.dt_crit = time_step(mode, crit, safety, dt)
         # omega_max dt / 2 without damping: the step against the undamped critical step
         self._c = min(self.dt / self.dt_crit / math.sqrt(1.0 + self.alpha), 0.999)
-        nt = a.zones.tets.shape[0]
-        if nt:
-            gsize = np.diff(a.zones.gptr).max()
-            self.scratch = K.Scratch(np.zeros((gsize, 6)), np.zeros(gsize), np.zeros((nt, 2), np.int64),
-                                     np.zeros((3, 3)), np.zeros((3, 3)), np.zeros(24))
-        else:
-            self.scratch = K.empty_scratch()
+        nt, nc = a.zones.tets.shape[0], a.cells.nodes.shape[0]
+        gsize = np.diff(a.zones.gptr).max() if nt else 1
+        self.scratch = K.Scratch(np.zeros((gsize, 6)), np.zeros(gsize), np.zeros((max(nt, 1), 2), np.int64),
+                                 np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((nc, 24)),
+                                 np.zeros((a.cells.K.shape[0], nc, 24)))
         self.h_min = a.h_min      # smallest zone, cell or body size, for the divergence guard
         self.gravity = np.asarray(model.gravity, float).copy()
         self.load_factor = 1.0

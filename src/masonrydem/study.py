@@ -8,6 +8,8 @@ connects (specimen.build).
 """
 import copy
 
+import numpy as np
+
 from .masonry import GF_COEFFICIENT, GF_EXPONENT, GI_PER_FT, unit_fracture_energy
 from .scene import validate_scene
 
@@ -37,13 +39,27 @@ def study_scene(base, variant, sample, sigma_v):
     return validate_scene(sc)
 
 
-def run_sample(base, samples, variant, sv_mpa, i, progress=True):
-    """One simulation of the study: sample ``i`` of the table ``samples``
-    (variant ``variant``) at the precompression ``sv_mpa`` (MPa) on the scene
-    ``base``.  Returns runner.run_scene's (row, curve, specimen, solver),
-    the row and the curve labelled with variant, sample and sigma_v."""
-    from .runner import run_scene
-    sample = samples[samples["sample"] == i].iloc[0]
-    row, curve, specimen, solver = run_scene(study_scene(base, variant, sample, sv_mpa * 1e6), progress=progress)
-    ids = dict(variant=variant, sample=int(i))
-    return {**ids, **row, "sigma_v_mpa": sv_mpa}, curve.assign(**ids, sigma_v_mpa=sv_mpa), specimen, solver
+def sample_inputs(sample):
+    """The random inputs of one sample (a row of either table of
+    sampling.study_samples) as a run's row reports them: E_b_mpa, f_tu_mpa,
+    f_tj_mpa (MPa), phi_j_deg; the means over units and joints for the
+    spatial variant.  For the row of a run that failed before its specimen
+    existed."""
+    return dict(E_b_mpa=float(np.mean(sample["E_b"])) / 1e6, f_tu_mpa=float(np.mean(sample["f_tu"])) / 1e6,
+                f_tj_mpa=float(np.mean(sample["f_tj"])) / 1e6, phi_j_deg=float(np.mean(sample["phi_j"])))
+
+
+def run_sample(base, sample, variant, sv_mpa, progress=True, frame=True):
+    """One simulation of the study: ``sample`` (a mapping: its number and
+    properties, a row of sampling.study_samples) of variant ``variant`` at
+    the precompression ``sv_mpa`` (MPa) on the scene ``base``.  Returns
+    runner.run_scene's (``frame``; else runner.simulate's) (row, curve,
+    specimen, solver), the row labelled with variant, sample and
+    sigma_v (and a curve frame too)."""
+    from .runner import run_scene, simulate
+    run = run_scene if frame else simulate
+    row, curve, specimen, solver = run(study_scene(base, variant, sample, sv_mpa * 1e6), progress=progress)
+    ids = dict(variant=variant, sample=int(sample["sample"]))
+    if frame:
+        curve = curve.assign(**ids, sigma_v_mpa=sv_mpa)
+    return {**ids, **row, "sigma_v_mpa": sv_mpa}, curve, specimen, solver

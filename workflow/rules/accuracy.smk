@@ -31,10 +31,11 @@ use rule accuracy_run as accuracy_scaling_run with:
 
 use rule simulate as simulate_fine with:
     output:
-        result=f"{R}/accuracy/subsample/{{variant}}/sv{{sv}}/s{{sample}}.parquet",
-        curve=f"{R}/accuracy/subsample/{{variant}}/sv{{sv}}/s{{sample}}_curve.parquet",
+        result=f"{R}/accuracy/subsample/{{variant}}/sv{{sv}}/s{{sample}}.json",
+        curve=f"{R}/accuracy/subsample/{{variant}}/sv{{sv}}/s{{sample}}_curve.json",
     params:
         overrides=plan.subsample_fine(config),  # complete: independent of the defaults
+        sets=get_job_sets(plan.subsample_fine(config)),
         solver=get_solver_hash(),
     log:
         f"{R}/logs/accuracy/subsample_{{variant}}_sv{{sv}}_s{{sample}}.log",
@@ -59,6 +60,8 @@ rule accuracy_summary:
         baselines=plan.accuracy_baselines(config),
         numerics=config["numerics"],
         path=plan.path_settings(config),
+        candidates=plan.candidate_settings(config),
+        path_tolerance=config.get("accuracy", {}).get("path_tolerance"),
     log:
         f"{R}/logs/accuracy/summary.log",
     script:

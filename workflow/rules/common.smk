@@ -1,3 +1,5 @@
+import shlex
+import sys
 import os
 
 from snakemake.utils import validate
@@ -74,8 +76,16 @@ def get_study_runs(kind):
     """Every simulation's result (kind 'result') or curve file."""
     s = config["study"]
     suffix = "" if kind == "result" else "_curve"
-    return expand(f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}{suffix}.parquet", variant=s["variants"],
+    return expand(f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}{suffix}.json", variant=s["variants"],
                   sv=s["precompression_mpa"], sample=range(s["n_samples"]))
+
+
+PYTHON = sys.executable
+
+
+def get_job_sets(overrides):
+    """Scene overrides as the --set options of masonrydem.job."""
+    return " ".join(f"--set {shlex.quote(o)}" for o in overrides)
 
 
 def get_study_outputs():
@@ -105,7 +115,7 @@ def get_subsample_runs(which):
         return []
     sub = config["accuracy"]["subsample"]
     root = "study/runs" if which == "default" else "accuracy/subsample"
-    return expand(f"{R}/{root}/nonspatial/sv{{sv}}/s{{sample}}.parquet", sv=sub["precompression_mpa"],
+    return expand(f"{R}/{root}/nonspatial/sv{{sv}}/s{{sample}}.json", sv=sub["precompression_mpa"],
                   sample=range(sub["n_samples"]))
 
 

@@ -16,7 +16,7 @@ rule study_pictures:
     """3-D pictures of typical study runs, per variant and failure mode."""
     input:
         runs=f"{R}/study/runs.parquet",
-        samples=expand(f"{R}/study/samples_{{variant}}.parquet", variant=config["study"]["variants"]),
+        samples=expand(f"{R}/study/samples_{{variant}}.json", variant=config["study"]["variants"]),
         scene=config["scene"],
         template=get_template("study_pictures"),
     output:

@@ -7,8 +7,8 @@ rule sample:
     input:
         template=get_template("sampling_check"),
     output:
-        nonspatial=f"{R}/study/samples_nonspatial.parquet",
-        spatial=f"{R}/study/samples_spatial.parquet",
+        nonspatial=f"{R}/study/samples_nonspatial.json",
+        spatial=f"{R}/study/samples_spatial.json",
         check=report(f"{R}/study/sampling_check.csv", caption=get_caption("sampling_check"), category="Study"),
         caption=get_caption("sampling_check"),
     params:
@@ -26,19 +26,23 @@ rule sample:
 rule simulate:
     """One simulation: a variant, a precompression level, a sample."""
     input:
-        samples=f"{R}/study/samples_{{variant}}.parquet",
+        samples=f"{R}/study/samples_{{variant}}.json",
         scene=config["scene"],
     output:
-        result=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}.parquet",
-        curve=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}_curve.parquet",
+        result=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}.json",
+        curve=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}_curve.json",
     params:
         overrides=config["numerics"],
+        sets=get_job_sets(config["numerics"]),
         solver=get_solver_hash(),
     log:
         f"{R}/logs/study/{{variant}}_sv{{sv}}_s{{sample}}.log",
     threads: 1
-    script:
-        "../scripts/simulate.py"
+    shell:
+        # a light job (masonrydem.job), no script wrapper: it starts in a fraction of a second
+        "{PYTHON} -m masonrydem.job {input.scene:q} --samples {input.samples:q} --variant {wildcards.variant} "
+        "--sv {wildcards.sv} --sample {wildcards.sample} {params.sets} --threads {threads} "
+        "--result {output.result:q} --curve {output.curve:q} > {log:q} 2>&1"
 
 
 rule collect:

@@ -7,9 +7,10 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 import pandas as pd  # noqa: E402
 
 from masonrydem import accuracy, captions, figures  # noqa: E402
+from masonrydem.runner import read_json  # noqa: E402
 
-default = pd.concat([pd.read_parquet(p) for p in sm.input.default], ignore_index=True)
-fine = pd.concat([pd.read_parquet(p) for p in sm.input.fine], ignore_index=True)
+default = pd.DataFrame([read_json(p) for p in sm.input.default])
+fine = pd.DataFrame([read_json(p) for p in sm.input.fine])
 table = accuracy.compare_subsample(default, fine)
 table.to_csv(sm.output.table, index=False, float_format="%.6g")
 print(table.T.to_string())

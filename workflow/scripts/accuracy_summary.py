@@ -9,12 +9,13 @@ import pandas as pd  # noqa: E402
 
 from masonrydem import accuracy, captions, figures  # noqa: E402
 
-COLUMNS = ["P_max_kN", "failure_mode", "ok", "status", "steps", "wall_time_s", "cells", "subcontact_refine",
+COLUMNS = ["P_max_kN", "failure_mode", "ok", "status", "steps", "wall_time_s", "blocks", "cells", "subcontact_refine",
            "tets", "subcontacts", "units"]
 rows = [dict(case=case, setting=setting, **pd.read_parquet(p).iloc[0][COLUMNS].to_dict())
         for (case, setting), p in zip(sm.params.runs, sm.input.results)]
 tolerance = sm.params.tolerance
-table, conv = accuracy.sweep_table(rows, sm.params.cases, sm.params.path, band=tolerance / 2)
+table, conv = accuracy.sweep_table(rows, sm.params.cases, sm.params.path, sm.params.candidates,
+                                   sm.params.path_tolerance)
 choice = accuracy.choose(table, conv, tolerance)
 table.to_csv(sm.output.runs, index=False, float_format="%.6g")
 conv.to_csv(sm.output.convergence, index=False, float_format="%.6g")

@@ -9,22 +9,23 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 import pandas as pd  # noqa: E402
 
 from masonrydem.analysis import check_one_solver  # noqa: E402
-from masonrydem.runner import atomic_write, downsample  # noqa: E402
+from masonrydem.runner import atomic_write, downsample, read_json  # noqa: E402
 
-runs = pd.concat([pd.read_parquet(p) for p in sm.input.results], ignore_index=True)
+runs = pd.DataFrame([read_json(p) for p in sm.input.results])
 print("solver", check_one_solver(runs))
 
 
 def thinned(path):
     """The curve at about curve_points points; one that has no more (plus
     its peak) is kept whole, so thinning twice changes nothing."""
-    c = pd.read_parquet(path)
+    c = pd.DataFrame(read_json(path)).astype({"step": "int64"})
     if len(c) > sm.params.curve_points + 1:
         c = c.iloc[downsample(c.displacement_mm.to_numpy(), c.load_kN.to_numpy(), sm.params.curve_points)]
     return c.astype({k: "float32" for k in ("displacement_mm", "load_kN", "ratio", "unbalance")})
 
 
-curves = pd.concat([thinned(p) for p in sm.input.curves], ignore_index=True)
+curves = pd.concat([thinned(p).assign(variant=r.variant, sample=r["sample"], sigma_v_mpa=r.sigma_v_mpa)
+                    for p, (_, r) in zip(sm.input.curves, runs.iterrows())], ignore_index=True)
 atomic_write(sm.output.runs, lambda p: runs.to_parquet(p, index=False))
 atomic_write(sm.output.curves, lambda p: curves.to_parquet(p, index=False))
 print(f"{len(runs)} runs, {int((~runs.ok).sum())} not ok:")

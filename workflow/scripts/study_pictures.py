@@ -13,6 +13,7 @@ import pandas as pd  # noqa: E402
 
 from masonrydem import captions, figures  # noqa: E402
 from masonrydem.analysis import typical_run  # noqa: E402
+from masonrydem.runner import read_json  # noqa: E402
 from masonrydem.scene import load_scene  # noqa: E402
 from masonrydem.study import run_sample  # noqa: E402
 from masonrydem.viz import picture_damage, state_blocks  # noqa: E402
@@ -26,8 +27,9 @@ for (variant, mode), path in zip(sm.params.pictures, sm.output.pictures):
     if pick is None:
         figures.placeholder(f"{variant}: no run failed in the {mode} mode", path)
         continue
-    samples = pd.read_parquet(sm.input.samples[sm.params.variants.index(variant)])
-    row, _, specimen, solver = run_sample(base, samples, variant, pick.sigma_v_mpa, pick["sample"])
+    samples = read_json(sm.input.samples[sm.params.variants.index(variant)])
+    sample = next(s for s in samples if s["sample"] == pick["sample"])
+    row, _, specimen, solver = run_sample(base, sample, variant, pick.sigma_v_mpa, frame=False)
     if (row["P_max_kN"], row["failure_mode"]) != (pick.P_max_kN, pick.failure_mode):
         raise RuntimeError(f"{variant} s{pick['sample']} at {pick.sigma_v_mpa} MPa: the rerun gives P_max "
                            f"{row['P_max_kN']} kN ({row['failure_mode']}), the study recorded {pick.P_max_kN} kN "

@@ -150,7 +150,8 @@ class Scratch(NamedTuple):
     pending: np.ndarray  # (nt, 2) zones that may yield: (tetrahedron, group)
     a: np.ndarray        # (3, 3) eigenvalues (diagonal)
     evec: np.ndarray     # (3, 3) eigenvectors (columns)
-    ue: np.ndarray       # (24,) a cell's corner displacements
+    U: np.ndarray        # (nc, 24) the cells' corner displacements ...
+    F: np.ndarray        # (nk, nc, 24) ... times each kind's matrix
 
 
 class Controls(NamedTuple):
@@ -179,8 +180,3 @@ def empty_bodies():
     z = np.zeros
     return Bodies(z((0, 3, 3)), z((0, 3)), z((0, 3)), z((0, 3, 3)), z((0, 3), np.uint8), z((0, 3)), z(0),
                   z((0, 3)), z(0, np.int64), z((0, 3)), z((0, 3)))
-
-
-def empty_scratch():
-    z = np.zeros
-    return Scratch(z((1, 6)), z(1), z((1, 2), np.int64), z((3, 3)), z((3, 3)), z(24))

@@ -39,12 +39,9 @@ def _advance_dof(i, d, fa, f, v, u, mass, fixed, vpres, vf, alpha, dt):
         u[i, d] += dt * vv
         return 0.0, abs(ff), 0.0, -ff * vv
     vo = v[i, d]
-    damp = alpha * abs(ff)
-    fd = ff
-    if vo > 0.0:
-        fd -= damp
-    elif vo < 0.0:
-        fd += damp
+    # local damping against the velocity, without a branch on its sign
+    # (which is near random in a quasi-static run): sgn(0) = 0
+    fd = ff - alpha * abs(ff) * ((vo > 0.0) - (vo < 0.0))
     m = mass[i]
     vv = vo + dt * fd / m
     v[i, d] = vv
