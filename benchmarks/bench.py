@@ -1,20 +1,29 @@
-"""Solver speed on a wallette-sized model (24 bricks), one thread.
+"""Solver speed on a wallette-sized model (24 bricks), one thread, for
+every unit model, and the start-up of a study job.
 
-Prints one JSON line:
+Prints one JSON line; per unit model (under "models"):
   ns_per_tet_step         zone kernel time / (tetrahedra x steps)
+  ns_per_cell_step        elastic cells computed as linear (elements.py):
+                          cell kernel time / (cells x steps); for the
+                          zone model the time of its 10 tetrahedra per cell
   ns_per_subcontact_step  joint kernel time / (sub-contacts x steps)
-  steps_per_s             whole time steps per second (zones, joints,
-                          bearings, node update, histories)
+  steps_per_s             whole time steps per second (zones or cells,
+                          joints, bearings, node update, histories)
+and, at the top level, the elasto-plastic model's figures (the scene's own
+physics), its figures in brick failure, and
   kernel_load_s           a fresh process: time of the first time step of a
                           small model once the kernels are cached (import of
                           the package not included; reported apart)
   import_s                a fresh process: `import masonrydem`
-The kernels are timed on realistic states: the reference wallette loaded
-past its peak (joint failure: joints softening), and a strong-joint
-wallette past its peak (brick failure: zones cracking, reported under
-"brick_failure").  ``--tiny``: the same on a wallette of 2 x 2 units of
-one cell each, a few hundred steps (tests/test_bench.py runs it, so that
-the benchmark cannot break unnoticed).
+  job                     `python -m masonrydem.job` on a small wallette: its
+                          own start-up (interpreter start to the first
+                          step's set-up) and its wall time
+The kernels are timed on realistic states: the wallette loaded past its
+peak (joint failure: joints softening), and a strong-joint wallette past
+its peak (brick failure: zones or crack interfaces cracking).  ``--tiny``:
+the same on a wallette of 2 x 2 units of one cell each (two for the
+potential-crack units), a few hundred steps (tests/test_bench.py runs it,
+so that the benchmark cannot break unnoticed).
 """
 import json
 import os
@@ -29,6 +38,7 @@ from numba import njit  # noqa: E402
 
 from masonrydem import Solver  # noqa: E402
 from masonrydem import kernels as K  # noqa: E402
+from masonrydem.kernels.cells import cell_forces  # noqa: E402
 from masonrydem.kernels.joints import contact_forces  # noqa: E402
 from masonrydem.kernels.zones import zone_forces  # noqa: E402
 from masonrydem.scene import load_scene  # noqa: E402
@@ -37,6 +47,21 @@ from masonrydem.specimen import build  # noqa: E402
 SCENE = "config/scenes/willis.yaml"
 TINY = ["geometry.courses=2", "geometry.units_per_course=2", "numerics.cells=[1, 1, 1]",
         "loading.bending.supports_x=[0.1, 0.5]", "loading.bending.loads_x=[0.25, 0.35]"]
+PC = ["physics.blocks=potential-crack", "numerics.elastic_element=hex8i"]
+# unit model -> its overrides (wallette, tiny wallette): the scene's own
+# elasto-plastic zones, elastic units as zones and as linear cells, the
+# potential-crack units on the study's mesh (config/config.yaml), rigid units
+MODELS = {
+    "elasto-plastic": ([], []),
+    "elastic-zones": (["physics.blocks=elastic"], ["physics.blocks=elastic"]),
+    "elastic-tet10": (["physics.blocks=elastic", "numerics.elastic_element=tet10"],
+                      ["physics.blocks=elastic", "numerics.elastic_element=tet10"]),
+    "elastic-hex8i": (["physics.blocks=elastic", "numerics.elastic_element=hex8i"],
+                      ["physics.blocks=elastic", "numerics.elastic_element=hex8i"]),
+    "potential-crack-2x4x3": ([*PC, "numerics.cells=[2, 4, 3]"], [*PC, "numerics.cells=[2, 1, 1]"]),
+    "rigid": (["physics.blocks=rigid"], ["physics.blocks=rigid"]),
+}
+STRONG = ["materials.joints.ft=1.0e6", "materials.joints.GI=30.0"]
 
 FRESH = """
 import time, sys
@@ -64,7 +89,7 @@ def fresh_process_times(repeat=3):
 
 
 def _kernels(zlaw, jlaw):
-    """The zone and joint kernels of these laws, as the step kernel
+    """The zone, cell and joint kernels of these laws, as the step kernel
     compiles them (the law ids are constants of the wrappers), each run
     ``n`` times per call: a call from Python costs tens of microseconds
     (its containers are typed and unboxed), which the loop amortises."""
@@ -74,11 +99,16 @@ def _kernels(zlaw, jlaw):
             zone_forces(zlaw, dt, nodes, z, scratch)
 
     @njit(error_model="numpy")
+    def cells(n, nodes, c, scratch):
+        for _ in range(n):
+            cell_forces(nodes, c, scratch)
+
+    @njit(error_model="numpy")
     def joints(n, dt, nodes, bodies, sc):
         for _ in range(n):
             contact_forces(jlaw, 0, 0, dt, nodes, bodies, sc)
 
-    return zones, joints
+    return zones, cells, joints
 
 
 def best_of(fn, n, repeat=5):
@@ -93,8 +123,8 @@ def best_of(fn, n, repeat=5):
 
 def kernel_times(overrides, steps=6000, ramp=2000):
     """Loads the wallette of SCENE (with ``overrides``) for ``steps`` steps,
-    then times the zone and joint kernels on copies of that state and a
-    stretch of whole steps."""
+    then times the zone, cell and joint kernels on copies of that state and
+    a stretch of whole steps."""
     sp = build(load_scene(SCENE, overrides))
     s = Solver(sp.model, chunk=500)
     s.vpres[sp.drive] = [0.0, 5e-8, 0.0]
@@ -102,34 +132,69 @@ def kernel_times(overrides, steps=6000, ramp=2000):
     nodes = s.nodes._replace(v=s.v.copy(), f=np.zeros_like(s.f))
     zs = s.zones._replace(state=s.zs.copy(), stress=s.stress.copy())
     js = s.joints._replace(state=s.js.copy())
-    zone_kernel, joint_kernel = _kernels(s.assembly.zlaw, s.assembly.jlaw)
-
-    zone_kernel(1, 1e-3, nodes, zs, s.scratch)
-    joint_kernel(1, 1e-3, nodes, s.bodies, js)
-    t_zone = best_of(lambda: zone_kernel(200, 1e-3, nodes, zs, s.scratch), 1) / 200
-    t_joint = best_of(lambda: joint_kernel(2000, 1e-3, nodes, s.bodies, js), 1) / 2000
+    cs = s.assembly.cells
+    zone_kernel, cell_kernel, joint_kernel = _kernels(s.assembly.zlaw, s.assembly.jlaw)
+    nt, nc, nsc = zs.tets.shape[0], cs.nodes.shape[0], js.area.shape[0]
     t_step = best_of(lambda: s.cycle(500), 1, repeat=6) / 500
-    nt, nsc = zs.tets.shape[0], js.area.shape[0]
-    return dict(ns_per_tet_step=round(t_zone / nt * 1e9, 1),
-                ns_per_subcontact_step=round(t_joint / nsc * 1e9, 1),
-                steps_per_s=round(1.0 / t_step, 1),
-                tetrahedra=int(nt), subcontacts=int(nsc),
-                cracked_zones=int((s.zone_damage() > 0).sum()),
-                damaged_subcontacts=int((s.js[:, K.JS_D] > 0).sum()),
-                share_zones=round(t_zone / t_step, 3), share_joints=round(t_joint / t_step, 3))
+    out = dict(steps_per_s=round(1.0 / t_step, 1), tetrahedra=int(nt), cells=int(nc), subcontacts=int(nsc),
+               damaged_subcontacts=int((s.js[:, K.JS_D] > 0).sum()))
+    if nt:
+        zone_kernel(1, 1e-3, nodes, zs, s.scratch)
+        t_zone = best_of(lambda: zone_kernel(200, 1e-3, nodes, zs, s.scratch), 1) / 200
+        out.update(ns_per_tet_step=round(t_zone / nt * 1e9, 1), ns_per_cell_step=round(t_zone / nt * 10e9, 1),
+                   cracked_zones=int((s.zone_damage() > 0).sum()), share_zones=round(t_zone / t_step, 3))
+    if nc:
+        cell_kernel(1, nodes, cs, s.scratch)
+        t_cell = best_of(lambda: cell_kernel(200, nodes, cs, s.scratch), 1) / 200
+        out.update(ns_per_cell_step=round(t_cell / nc * 1e9, 1), share_cells=round(t_cell / t_step, 3))
+    if nsc:
+        joint_kernel(1, 1e-3, nodes, s.bodies, js)
+        t_joint = best_of(lambda: joint_kernel(2000, 1e-3, nodes, s.bodies, js), 1) / 2000
+        out.update(ns_per_subcontact_step=round(t_joint / nsc * 1e9, 1), share_joints=round(t_joint / t_step, 3))
+    return out
+
+
+def job_times(tiny):
+    """`python -m masonrydem.job` as the workflow runs it (one sample of the
+    study, one thread), on the tiny wallette or on the 2-course wallette:
+    its own start-up (startup_s, from the interpreter's start to the first
+    step's set-up) and the job's wall time."""
+    import tempfile
+    from masonrydem.runner import write_json
+    from masonrydem.sampling import records, study_samples
+    size = TINY if tiny else ["geometry.courses=2", "numerics.cells=[1, 1, 1]"]
+    with tempfile.TemporaryDirectory() as tmp:
+        write_json(f"{tmp}/samples.json", records(study_samples(2, 1)[0]))
+        cmd = [sys.executable, "-m", "masonrydem.job", SCENE, "--samples", f"{tmp}/samples.json", "--variant",
+               "nonspatial", "--sv", "0.0", "--sample", "0", "--result", f"{tmp}/r.json", "--curve", f"{tmp}/c.json",
+               *(x for o in size for x in ("--set", o))]
+        best = None
+        for _ in range(1 if tiny else 3):
+            t0 = time.perf_counter()
+            subprocess.run(cmd, capture_output=True, check=True)
+            wall = time.perf_counter() - t0
+            with open(f"{tmp}/r.json") as f:
+                row = json.load(f)
+            if best is None or row["startup_s"] < best["startup_s"]:
+                best = dict(startup_s=round(row["startup_s"], 3), wall_s=round(wall, 3), steps=row["steps"])
+    return best
 
 
 def main(tiny=False):
     fresh_process_times(1)          # make sure the cache is warm
     import_s, load_s = fresh_process_times(1 if tiny else 3)
-    base, steps, ramp = (TINY, 600, 200) if tiny else ([], 6000, 2000)
-    ref = kernel_times(base, steps, ramp)
-    # strong joints: the bricks crack (brick failure), so the plastic path runs
-    brick = kernel_times(base + ["materials.joints.ft=1.0e6", "materials.joints.GI=30.0"], int(1.5 * steps), ramp)
-    out = dict(ref)
-    out.update(kernel_load_s=round(load_s, 3), import_s=round(import_s, 3),
-               brick_failure={k: brick[k] for k in ("ns_per_tet_step", "ns_per_subcontact_step",
-                                                     "steps_per_s", "cracked_zones")})
+    steps, ramp = (600, 200) if tiny else (6000, 2000)
+    models = {}
+    for name, (full, small) in MODELS.items():
+        base = small + TINY if tiny else full
+        models[name] = kernel_times(base, steps, ramp)
+        if name in ("elasto-plastic", "potential-crack-2x4x3"):
+            # strong joints: the bricks crack (brick failure), so the plastic path runs
+            brick = kernel_times(base + STRONG, int(1.5 * steps), ramp)
+            models[name]["brick_failure"] = {k: v for k, v in brick.items()
+                                             if k.startswith(("ns_", "steps_", "cracked"))}
+    out = dict(models["elasto-plastic"])
+    out.update(kernel_load_s=round(load_s, 3), import_s=round(import_s, 3), job=job_times(tiny), models=models)
     print(json.dumps(out))
 
 

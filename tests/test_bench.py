@@ -25,4 +25,13 @@ def test_bench_runs_on_a_tiny_wallette():
     for block in (r, r["brick_failure"]):
         for key in ("ns_per_tet_step", "ns_per_subcontact_step", "steps_per_s"):
             assert 0 < block[key] < 1e9, key
+    # every unit model with the kernels it runs: zones, linear cells, bodies
+    models = r["models"]
+    for name, key in (("elastic-zones", "ns_per_tet_step"), ("elastic-tet10", "ns_per_cell_step"),
+                      ("elastic-hex8i", "ns_per_cell_step"), ("potential-crack-2x4x3", "ns_per_cell_step"),
+                      ("rigid", "ns_per_subcontact_step")):
+        assert 0 < models[name][key] < 1e9 and 0 < models[name]["steps_per_s"], name
+    assert models["elastic-tet10"]["cells"] == 4 and models["elastic-tet10"]["tetrahedra"] == 0
+    assert models["rigid"]["tetrahedra"] == models["rigid"]["cells"] == 0
     assert 0 < r["import_s"] < 60 and 0 < r["kernel_load_s"] < 120
+    assert 0 < r["job"]["startup_s"] < r["job"]["wall_s"] and r["job"]["steps"] > 0
