@@ -2,7 +2,7 @@
 (specimen.py builds it into a Model).
 
 A scene (schema: scene_schema.yaml, defaults = the Willis wallette of
-study.md) declares geometry, physics, materials, loading, numerics and
+docs/study.md) declares geometry, physics, materials, loading, numerics and
 outputs.  ``load_scene`` reads it, applies ``--set`` overrides and checks it;
 every error names the field (a dotted path, as the scene writes it) and the
 reason.  Refused before anything is allocated: a file that is not UTF-8
