@@ -95,3 +95,19 @@ def test_solver_hash_covers_everything_a_simulation_runs():
     assert imported <= sources, imported - sources
     assert "scene_schema.yaml" in sources and "kernels/step.py" in sources
     assert not set(masonrydem.ANALYSIS_ONLY) & (sources | {Path(f).name for f in imported})
+
+
+def test_the_source_hash_ignores_documentation_only():
+    """A docstring, a comment or a schema description does not rerun the
+    simulations; a changed statement or a changed default does."""
+    from masonrydem import source_code
+    base = source_code("m.py", "def f(x):\n    return x + 1\n")
+    assert source_code("m.py", '"""module"""\ndef f(x):  # add one\n    """one more"""\n\n    return x + 1\n') == base
+    assert source_code("m.py", "def f(x):\n    return x + 2\n") != base
+    assert source_code("m.py", 'def f(x):\n    """only a docstring"""\n') == source_code("m.py", "def f(x):\n    pass\n")
+    y = source_code("s.yaml", "a: {description: one text, type: number, default: 1.0}\ndescription: {type: string}\n")
+    assert source_code("s.yaml", "a: {description: another, type: number, default: 1.0}\n"
+                                 "description: {type: string}\n") == y
+    assert source_code("s.yaml", "a: {description: one text, type: number, default: 2.0}\n"
+                                 "description: {type: string}\n") != y
+    assert len(masonrydem.source_hash()) == 12

@@ -1,4 +1,4 @@
-"""Statistics and prediction equations (study.md, 6) on synthetic data with
+"""Statistics and prediction equations (docs/study.md, 11-13) on synthetic data with
 known answers."""
 import numpy as np
 import pandas as pd

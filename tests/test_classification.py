@@ -1,4 +1,4 @@
-"""Failure classification on constructed cases (study.md, 6)."""
+"""Failure classification on constructed cases (docs/formulation.md, 11)."""
 import math
 
 import pytest

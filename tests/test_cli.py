@@ -33,7 +33,7 @@ def test_result_row(run_dir):
         assert col in row.columns
     r = row.iloc[0]
     assert r["status"] == "load_drop" and r["ok"]
-    # sigma = 6 M / (b h^2), M = 0.1375 P (study.md, 2)
+    # sigma = 6 M / (b h^2), M = 0.1375 P (docs/study.md, 2)
     assert r["strength_mpa"] == pytest.approx(6 * 0.1375 * r["P_max_kN"] * 1e-3 / (0.44 * 0.114 ** 2), rel=1e-9)
 
 

@@ -1,4 +1,4 @@
-"""Latin Hypercube sampling of the study's random variables (study.md, 5)."""
+"""Latin Hypercube sampling of the study's random variables (docs/study.md, 6-7)."""
 import numpy as np
 import pytest
 from scipy import stats

@@ -13,7 +13,7 @@ WILLIS = "config/scenes/willis.yaml"
 
 
 def test_willis_scene_is_the_study_specimen():
-    """study.md 1-3: modelled unit 240 x 114 x 75 mm, 24 units, 38 joints,
+    """docs/study.md 1-3: modelled unit 240 x 114 x 75 mm, 24 units, 38 joints,
     wall 1080 x 114 x 450 mm, k_n = E_b E_m/(t(E_b - E_m)) = 166.7 GPa/m,
     k_s = 0.4 k_n, shear span a = 275 mm."""
     sp = build(load_scene(WILLIS))

@@ -1,4 +1,4 @@
-"""Closed-form verification of the solver (solver.md, "Verification").
+"""Closed-form verification of the solver (docs/formulation.md, 13).
 
 Each test states its formula and tolerance.  Run only these with
 ``pytest -m verification``.

@@ -24,18 +24,42 @@ def simulation_sources():
                   if p.suffix in (".py", ".yaml") and p.name not in ANALYSIS_ONLY and "__pycache__" not in p.parts)
 
 
+def source_code(name, text):
+    """What a source file computes, without its documentation: a Python
+    module's syntax tree without docstrings (comments and layout are not in
+    the tree), a YAML file's data without its 'description' texts."""
+    if name.endswith(".py"):
+        import ast
+        tree = ast.parse(text)
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) and node.body \
+                    and isinstance(node.body[0], ast.Expr) and isinstance(node.body[0].value, ast.Constant) \
+                    and isinstance(node.body[0].value.value, str):
+                node.body = node.body[1:] or [ast.Pass()]
+        return ast.dump(tree)
+    import json
+
+    import yaml
+
+    def data(x):
+        if isinstance(x, dict):
+            return {k: data(v) for k, v in x.items() if not (k == "description" and isinstance(v, str))}
+        return [data(v) for v in x] if isinstance(x, list) else x
+    return json.dumps(data(yaml.safe_load(text)), sort_keys=True)
+
+
 def source_hash():
-    """Hash of the source files that decide what a simulation computes (the
+    """Hash of what the source files that decide a simulation compute (the
     workflow passes it as a parameter of every simulation rule, so that a
-    solver change reruns them, and a change to the analysis or the figures
-    does not)."""
+    solver change reruns them, and a change to the analysis, the figures or
+    any documentation, docstrings and comments included, does not)."""
     import hashlib
     from pathlib import Path
     here = Path(__file__).parent
     h = hashlib.sha256()
     for name in simulation_sources():
         h.update(name.encode())
-        h.update((here / name).read_bytes())
+        h.update(source_code(name, (here / name).read_text(encoding="utf-8")).encode())
     return h.hexdigest()[:12]
 
 

@@ -1,4 +1,4 @@
-"""Analysis of the study's runs (study.md, 6): statistics, correlations,
+"""Analysis of the study's runs (docs/study.md, 11-14): statistics, correlations,
 prediction equations and the design rules they are compared with.
 
 A runs table has one row per simulation with at least: variant, sigma_v_mpa,
@@ -17,7 +17,7 @@ from .masonry import bond_overlap, modelled_unit
 from .sampling import STUDY_VARIABLES
 
 INPUTS = ("f_tj_mpa", "f_tu_mpa", "phi_j_deg", "E_b_mpa")
-# the means of their distributions (study.md, 5) in the units of the runs table
+# the means of their distributions (docs/study.md, 6) in the units of the runs table
 _COLUMN = {"f_tj": ("f_tj_mpa", 1e-6), "f_tu": ("f_tu_mpa", 1e-6), "phi_j": ("phi_j_deg", 1.0), "E_b": ("E_b_mpa", 1e-6)}
 INPUT_MEANS = {_COLUMN[v.name][0]: v.mean * _COLUMN[v.name][1] for v in STUDY_VARIABLES}
 FEATURES = ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v")
@@ -203,7 +203,7 @@ def prediction_over_samples(eq_joint, eq_brick, f_tu, f_tj, levels):
     return low.mean(axis=1), low.std(axis=1, ddof=1)
 
 
-# --- design rules (study.md, 6) -------------------------------------------------
+# --- design rules (docs/study.md, 14) -------------------------------------------------
 def lourenco_gaetani(c_j, f_tu, overlap, unit_height):
     """Lower bounds of Lourenco & Gaetani: stepped (joint) failure
     f = c_j l_o / h_b; brick failure f = f_tu / 2 (MPa)."""

@@ -1,4 +1,4 @@
-"""Failure classification of a wallette run (study.md, 6), automatic and
+"""Failure classification of a wallette run (docs/formulation.md, 11), automatic and
 explained.
 
 A cell (hexahedron of a unit) is cracked when the volume-weighted mean

@@ -1,4 +1,4 @@
-"""Figures of the study (study.md, 6).  Each function writes one PNG."""
+"""Figures of the study (docs/study.md, 11-14).  Each function writes one PNG."""
 import matplotlib
 
 matplotlib.use("Agg")

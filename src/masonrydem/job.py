@@ -37,7 +37,7 @@ def main(argv=None):
     import numba
     import numpy as np
 
-    from .runner import write_json
+    from .runner import CURVE_COLUMNS, write_json
     from .scene import load_scene
     from .study import run_sample
     numba.set_num_threads(args.threads)
@@ -51,7 +51,7 @@ def main(argv=None):
         import traceback
         traceback.print_exc()
         row = _error_row(e, sample, args.variant, args.sv)
-        curve = dict(step=[], displacement_mm=[], load_kN=[], ratio=[], unbalance=[])
+        curve = {c: [] for c in CURVE_COLUMNS}
     row["startup_s"] = startup
     write_json(args.curve, curve)
     write_json(args.result, {k: (v.item() if hasattr(v, "item") else v) for k, v in row.items()})

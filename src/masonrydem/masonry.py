@@ -2,7 +2,7 @@
 modelled unit, the running bond, the joint stiffness from the unit's
 modulus, the fracture-energy rules and the flexural strength.
 
-These are the rules of the study's description (docs/, "The study"),
+These are the rules of the study's description (docs/study.md, 3),
 written once here so that the specimen builder, the sampled scenes and the
 regression all use the same numbers.
 """

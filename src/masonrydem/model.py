@@ -114,8 +114,9 @@ class Model:
     def set_joints(self, law, props, refine=1):
         """Joint law (by name, laws.JOINT_LAWS) and properties: a JointProps
         for all joints, or a function (block_a, block_b) -> JointProps.
-        ``refine``: the sub-contacts sit at the gridpoints of a face grid
-        refined that many times."""
+        ``refine``: each interval of the union of both faces' cell grids is
+        split that many times, and the sub-contacts sit at the points of the
+        composite Simpson rule on it (blocks.face_quadrature)."""
         joint_law(law)
         if not (isinstance(refine, (int, np.integer)) and refine >= 1):
             raise InputError("joints.refine", f"must be an integer >= 1, got {refine!r}")
@@ -166,8 +167,10 @@ class Model:
     def add_pressure(self, axis, coord, normal, rect, pressure):
         """A uniform pressure (Pa, positive = compressive, acting against the
         outward normal) on the block faces of the plane x[axis] = coord with
-        outward normal ``normal`` * e_axis, within ``rect``; lumped to the
-        face gridpoints with their tributary areas."""
+        outward normal ``normal`` * e_axis, within ``rect``; integrated by
+        the composite Simpson rule on the face grids (blocks.face_quadrature),
+        each point's force shared by the face's nodes with its bilinear
+        weights."""
         if not np.isfinite(pressure):
             raise InputError("pressure", f"must be finite, got {pressure!r}")
         total = 0.0

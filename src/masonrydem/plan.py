@@ -163,3 +163,56 @@ def subsample_fine(config):
     of the defaults)."""
     acc = config.get("accuracy")
     return acc["subsample"]["fine"] if acc else []
+
+
+# --- checks at planning -----------------------------------------------------------
+def planned_scenes(config):
+    """(where, scene file, overrides) of every kind of simulation the config
+    plans: ``where`` names the config's setting (and the run) it comes from."""
+    scene, numerics = config["scene"], config["numerics"]
+    out = [("numerics", scene, numerics)]
+    out += [(f"study.precompression_mpa ({sv} MPa)", scene, effective(numerics, [_pressure(sv)]))
+            for sv in config["study"]["precompression_mpa"]]
+    v = config["validation"]
+    out += [(f"validation.cases ({c['name']} at {sv} MPa)", scene, validation_overrides(config, c["name"], sv))
+            for c in v["cases"] for sv in v["precompression_mpa"]]
+    out += [(f"hard_cases ({run})", scene, hard_case_overrides(config, run)) for run in hard_case_jobs(config)]
+    out += [(f"reduced ({case}, model {model})", scene, reduced_overrides(config, case, model))
+            for case, model in reduced_runs(config)]
+    out += [(f"specimens ({name})", c["scene"], c["overrides"]) for name, c in specimen_cases(config).items()]
+    out += [(f"accuracy ({case}, setting {setting})", scene, accuracy_overrides(config, case, setting))
+            for case, setting in accuracy_runs(config)]
+    out += [(f"accuracy.scaling_courses ({n})", scene, scaling_overrides(config, n)) for n in scaling_courses(config)]
+    if config.get("accuracy"):
+        out += [(f"accuracy.subsample.fine ({sv} MPa)", scene, effective(subsample_fine(config), [_pressure(sv)]))
+                for sv in config["accuracy"]["subsample"]["precompression_mpa"]]
+    return out
+
+
+def _pressure(sv_mpa):
+    return f"loading.precompression.pressure={float(sv_mpa) * 1e6}"
+
+
+def check(config):
+    """Refuses, at planning, what config/schema.yaml cannot: a NaN or an
+    infinity anywhere, and overrides that a planned simulation's scene
+    refuses (each distinct
+    scene and overrides validated as the run will be; cheap: no model is
+    built).  Raises InputError naming the config's setting."""
+    import copy
+
+    from .errors import InputError, check_finite
+    from .scene import apply_overrides, read_scene, validate_scene
+    check_finite(config)
+    scenes, done = {}, set()
+    for where, scene, overrides in planned_scenes(config):
+        if (scene, tuple(overrides)) in done:
+            continue
+        done.add((scene, tuple(overrides)))
+        try:
+            if scene not in scenes:
+                scenes[scene] = read_scene(scene)
+            validate_scene(apply_overrides(copy.deepcopy(scenes[scene]), overrides))
+        except InputError as e:
+            raise InputError(where, f"the scene {scene} with the overrides {list(overrides)} is refused: {e}") from None
+    return config

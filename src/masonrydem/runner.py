@@ -50,22 +50,38 @@ def downsample(disp, load, n):
     return idx
 
 
+def scene_inputs(scene):
+    """The inputs of a row that the scene gives by itself."""
+    return dict(
+        scene=scene["name"],
+        sigma_v_mpa=scene["loading"]["precompression"]["pressure"] / 1e6,
+        blocks=scene["physics"]["blocks"],
+        elastic_element=scene["numerics"]["elastic_element"],
+        cells="x".join(str(c) for c in scene["numerics"]["cells"]),
+        subcontact_refine=scene["numerics"]["subcontact_refine"],
+    )
+
+
 def inputs_row(specimen):
     """The inputs that vary in the study (field means for spatial ones)."""
-    sc = specimen.scene
     return dict(
-        scene=sc["name"],
-        sigma_v_mpa=sc["loading"]["precompression"]["pressure"] / 1e6,
+        scene_inputs(specimen.scene),
         E_b_mpa=float(np.mean(specimen.E_b)) / 1e6,
         f_tu_mpa=float(np.mean(specimen.f_tu)) / 1e6,
         f_tj_mpa=float(np.mean(specimen.f_tj)) / 1e6,
         phi_j_deg=float(np.mean(specimen.phi_j)),
         units=len(specimen.units),
-        blocks=sc["physics"]["blocks"],
-        elastic_element=sc["numerics"]["elastic_element"],
-        cells="x".join(str(c) for c in sc["numerics"]["cells"]),
-        subcontact_refine=sc["numerics"]["subcontact_refine"],
     )
+
+
+CURVE_COLUMNS = ("step", "displacement_mm", "load_kN", "ratio", "unbalance")
+
+
+def error_row(scene, error, wall_time_s=math.nan):
+    """The row of a run that raised: its inputs as the scene gives them,
+    status 'error' and the exception as its message."""
+    return dict(scene_inputs(scene), status="error", ok=False, message=f"{type(error).__name__}: {error}",
+                wall_time_s=wall_time_s, solver_version=f"{__version__}+{source_hash()}")
 
 
 def run_scene(scene, progress=True):
@@ -88,13 +104,13 @@ def simulate(scene, progress=True):
     s = Solver(specimen.model, damping=num["damping"], safety=num["safety"],
                record_every=num["record_every"], chunk=500)
     row = inputs_row(specimen)
-    pre_status = "none"
+    pre_status, pre_message = "none", ""
     res = None
     if load["precompression"]["pressure"] > 0:
         pre = load["precompression"]
         res = s.run(pre["max_steps"], ratio_tol=pre["ratio_tol"],
                     progress=Progress("precompression") if progress else None)
-        pre_status = res.status
+        pre_status, pre_message = res.status, res.message
     g = s.monitor_index("load")
     u0 = float(s.last[K.h_disp(g)])
     start = s.step
@@ -122,6 +138,12 @@ def simulate(scene, progress=True):
         status, message = "peak_in_ramp", (f"the load peaked at {ramp.max() / 1e3:.4g} kN within the velocity ramp "
                                            f"(the first {stage['ramp_steps']} steps), where a peak does not count: "
                                            "lower the rate or the ramp steps")
+    # a test on a wall the precompression left out of equilibrium measures nothing
+    if pre_status == "max_steps" and status in GOOD:
+        status, message = "precompression_unconverged", (
+            f"the precompression did not reach equilibrium ({pre_message} with the unbalanced-force ratio above "
+            f"loading.precompression.ratio_tol, {load['precompression']['ratio_tol']:g}); the {specimen.test} "
+            f"stage then ended with {res.status}: {res.message}")
     # after the peak: did the load stay near equilibrium, or did it snap (a
     # sudden crack that displacement control cannot follow, carried by inertia)?
     unbalance = s.unbalance(H, g)
@@ -176,6 +198,15 @@ def atomic_write(path, write):
     tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
     write(tmp)
     os.replace(tmp, path)
+
+
+def record_error(out_dir, scene, error, wall_time_s=math.nan):
+    """Writes the row of a run that raised (``error_row``) and an empty
+    curve into ``out_dir``; returns the row."""
+    import pandas as pd
+    row = error_row(scene, error, wall_time_s)
+    write_outputs(out_dir, row, pd.DataFrame({c: [] for c in CURVE_COLUMNS}))
+    return row
 
 
 def write_outputs(out_dir, row, curve, specimen=None, solver=None, state=False):

@@ -1,4 +1,4 @@
-"""Latin Hypercube samples of the random variables of the study (study.md, 5).
+"""Latin Hypercube samples of the random variables of the study (docs/study.md, 6-7).
 
 Marginals (Table 2 of the source): f_tj, f_tu, E_b lognormal, phi_j normal,
 given by mean and coefficient of variation.  E_b and f_tu are correlated
@@ -39,7 +39,7 @@ class Variable:
 
 
 
-# study.md, section 5 (SI units: Pa, degrees)
+# docs/study.md, section 6 (SI units: Pa, degrees)
 STUDY_VARIABLES = (
     Variable("f_tj", "lognormal", 0.30e6, 0.40),
     Variable("f_tu", "lognormal", 3.75e6, 0.25),
@@ -90,7 +90,7 @@ JOINT_VARIABLES = ("f_tj", "phi_j")
 
 
 def study_samples(n, seed, n_units=24, n_joints=38):
-    """The study's samples (study.md, 5), reproducible from ``seed``.
+    """The study's samples (docs/study.md, 6-8), reproducible from ``seed``.
 
     Returns (nonspatial, spatial, achieved):
     * nonspatial: DataFrame, one row per sample: sample, f_tj, f_tu, phi_j,

@@ -208,7 +208,7 @@ def _grip(m, blocks, side):
 
 
 def _bending(m, scene, rigid, T, Htot, E_b):
-    """Four-point out-of-plane bending (study.md, 2): the base roller with x
+    """Four-point out-of-plane bending (docs/study.md, 2): the base roller with x
     fixed at the node nearest the span centre at mid-thickness (on a head
     joint a line of x-fixed nodes would pin it shut; y is held by the
     strips), support strips on the back face, load strips on the front
@@ -230,7 +230,7 @@ def _bending(m, scene, rigid, T, Htot, E_b):
 
 def strength(P, specimen):
     """The test's load as a stress.  Bending: the flexural strength
-    sigma = 6 M / (b h^2), M = P/2 a (study.md, 2); tension: P over the
+    sigma = 6 M / (b h^2), M = P/2 a (docs/study.md, 2); tension: P over the
     gross section (wall height x thickness); triplet: the shear stress
     P / 2A on the two bed joints."""
     g = specimen.scene["geometry"]

@@ -1,6 +1,6 @@
-"""The stochastic study (study.md, 5): from a sample to a scene.
+"""The stochastic study (docs/study.md, 8): from a sample to a scene.
 
-Dependent quantities (study.md, 5): c_j = 1.2 f_tj; G_fj,I = 0.03 f_tj and
+Dependent quantities (docs/study.md, 3): c_j = 1.2 f_tj; G_fj,I = 0.03 f_tj and
 G_fu = 0.04 f_tu^0.7 (N/mm with f in MPa), G_fj,II = 10 G_fj,I;
 c_u = 1.5 f_tu; k_n from E_b, k_s = 0.4 k_n (the scene's rules).  In the
 spatial variant a joint's k_n follows the mean E_b of the two units it

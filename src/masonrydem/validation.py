@@ -1,4 +1,4 @@
-"""Deterministic validation of the wallette (study.md, 4): peaks, initial
+"""Deterministic validation of the wallette (docs/study.md, 5): peaks, initial
 stiffness, and the sensitivity of the peak to the loading rate and to the
 mesh."""
 import numpy as np

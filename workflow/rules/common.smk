@@ -8,6 +8,8 @@ import masonrydem
 from masonrydem import plan
 
 validate(config, "../../config/schema.yaml", set_default=True)
+# refused at planning, naming the setting: NaN or infinite values, overrides the scene refuses
+plan.check(config)
 R = config["results"]  # root of every output (config/smoke.yaml: .test/results)
 
 

@@ -2,7 +2,7 @@ STATISTICS_CAPTIONS = ["statistics", "correlations", "increase"]
 
 
 rule sample:
-    """Latin Hypercube samples of both variants (study.md, 5) and the
+    """Latin Hypercube samples of both variants (docs/study.md, 7) and the
     achieved correlations."""
     input:
         template=get_template("sampling_check"),

@@ -78,7 +78,7 @@ def _coulomb_return(s, jp, js, dun, dus1, dus2):
 
 @njit(**_INLINE)
 def joint_coupled(s, jp, js, dun, dus1, dus2):
-    """Coupled fracture-energy softening (solver.md, Joints):
+    """Coupled fracture-energy softening (docs/formulation.md, 4.3):
     d_t = w_p / w_u, w_u = 2 G_I / f_t;  d_s = s_p / s_u, s_u = 2 G_II / c;
     D = 1 - (1 - d_t)(1 - d_s), never decreasing, at most 1.  Linear
     softening of f_t and c with a shared damage; friction angle unchanged;
