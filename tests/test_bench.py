@@ -12,11 +12,16 @@ from masonrydem.specimen import build
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def test_bench_runs_on_a_tiny_wallette():
+def test_bench_runs_on_a_tiny_wallette(monkeypatch):
     out = subprocess.run([sys.executable, "benchmarks/bench.py", "--tiny"], cwd=ROOT, capture_output=True,
                          text=True, check=True).stdout.strip().splitlines()[-1]
     r = json.loads(out)
-    sys.path.insert(0, str(ROOT / "benchmarks"))
+    # importing the script must not set NUMBA_NUM_THREADS in this process: once
+    # numba's threads run (the CLI sets them), a changed value makes every
+    # later compilation raise
+    import numba
+    monkeypatch.setenv("NUMBA_NUM_THREADS", str(numba.config.NUMBA_NUM_THREADS))
+    monkeypatch.syspath_prepend(str(ROOT / "benchmarks"))
     from bench import TINY
     sp = build(load_scene(str(ROOT / "config/scenes/willis.yaml"), TINY))
     a = sp.model.build()
