@@ -37,6 +37,7 @@ use rule simulate as simulate_fine with:
         overrides=plan.subsample_fine(config),  # complete: independent of the defaults
         sets=get_job_sets(plan.subsample_fine(config)),
         solver=get_solver_hash(),
+        python=PYTHON,
     log:
         f"{R}/logs/accuracy/subsample_{{variant}}_sv{{sv}}_s{{sample}}.log",
 

@@ -35,12 +35,13 @@ rule simulate:
         overrides=config["numerics"],
         sets=get_job_sets(config["numerics"]),
         solver=get_solver_hash(),
+        python=PYTHON,  # this workflow's interpreter (its environment has the package)
     log:
         f"{R}/logs/study/{{variant}}_sv{{sv}}_s{{sample}}.log",
     threads: 1
     shell:
         # a light job (masonrydem.job), no script wrapper: it starts in a fraction of a second
-        "{PYTHON} -m masonrydem.job {input.scene:q} --samples {input.samples:q} --variant {wildcards.variant} "
+        "{params.python:q} -m masonrydem.job {input.scene:q} --samples {input.samples:q} --variant {wildcards.variant} "
         "--sv {wildcards.sv} --sample {wildcards.sample} {params.sets} --threads {threads} "
         "--result {output.result:q} --curve {output.curve:q} > {log:q} 2>&1"
 
