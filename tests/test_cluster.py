@@ -1,7 +1,10 @@
 """The cluster path for real: the smoke study through SLURM with the
 cluster profile (profiles/slurm: per-rule resources, simulations grouped 50
-to a cluster job), against the same study run locally, bit for bit in
-P_max.  Needs a running SLURM (`make test-cluster` starts a one-node one with
+to a cluster job), the whole smoke DAG end to end, against the smoke
+study's simulations run locally (`snakemake --cores 2`, target
+study/runs.parquet: the rest of the DAG does not change P_max), bit for bit
+in P_max; and a group job killed with scancel.  About 20 min on two busy
+cores.  Needs a running SLURM (`make test-cluster` starts a one-node one with
 tools/local-slurm.sh); skipped when `sinfo` does not answer, and never part
 of `make test` (pyproject.toml deselects the marker)."""
 import shutil

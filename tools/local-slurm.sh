@@ -9,8 +9,12 @@
 # What it sets up (Debian's packages; SLURM 22.05 on Debian 12):
 #   munge        authentication between the SLURM daemons and commands
 #   mariadb      the accounting database, for slurmdbd
-#   slurmdbd     job accounting: the plugin asks `sacct` for the state of
-#                its jobs (an accounting storage of "none" makes sacct fail)
+#   slurmdbd     job accounting, as on a real cluster: sacct tells each
+#                job's state, cores, memory, time limit and run time
+#                (tests/test_cluster.py reads it); the plugin asks sacct
+#                for job states unless told squeue (profiles/slurm does, as
+#                sacct's "CANCELLED by <uid>" hangs it) and falls back to
+#                sacct where MinJobAge is short
 #   slurmctld    the controller, slurmd the one compute node: this machine,
 #                with the cores and memory `slurmd -C` finds, in partition
 #                "local" (the default partition)
