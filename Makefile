@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: reproduce test bench bench-reduced clean-cache
+.PHONY: reproduce test bench bench-reduced clean-cache slurm-up slurm-down test-cluster
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -31,3 +31,16 @@ bench-reduced: $(STAMP)
 
 clean-cache:
 	find src -name __pycache__ -type d -exec rm -rf {} +
+
+# A one-node SLURM cluster on this machine (root: apt-get installs munge,
+# slurm-wlm, slurmdbd, mariadb-server), and the smoke study through the
+# cluster profile against the same study run locally (tests/test_cluster.py;
+# not part of `make test`: pyproject.toml deselects the marker "cluster").
+slurm-up:
+	tools/local-slurm.sh start
+
+slurm-down:
+	tools/local-slurm.sh stop
+
+test-cluster: $(STAMP) slurm-up
+	$(BIN)/python -m pytest -q -m cluster -rs tests/test_cluster.py

@@ -1,6 +1,7 @@
 """The Snakemake workflow: the smoke configuration runs the whole DAG end to
 end; the full study plans 2 x 100 x 5 simulations."""
 import json
+import os
 import re
 import subprocess
 import sys
@@ -145,13 +146,19 @@ def test_full_study_plans_1000_simulations(tmp_path):
 
 def test_full_study_plans_on_slurm(tmp_path):
     """The cluster profile (snakemake-executor-plugin-slurm, simulations
-    grouped 50 per cluster job) plans the full DAG (dry run)."""
-    r = subprocess.run(SNAKEMAKE + ["-n", "--profile", "profiles/slurm", "--default-resources",
-                                    "slurm_partition=test", "--config", f"results={tmp_path}"],
-                       capture_output=True, text=True)
+    grouped 50 per cluster job) plans the full DAG (dry run), with the
+    partition from the environment and the profile's own resources (a
+    --default-resources on the command line would replace them).  Run for
+    real: tests/test_cluster.py."""
+    env = dict(os.environ, MASONRYDEM_SLURM_PARTITION="test")
+    r = subprocess.run(SNAKEMAKE + ["-n", "--profile", "profiles/slurm", "--config", f"results={tmp_path}"],
+                       capture_output=True, text=True, env=env)
     assert r.returncode == 0, r.stderr[-2000:]
     line = [x for x in r.stdout.splitlines() if x.split()[:1] == ["simulate"]]
     assert line and int(line[0].split()[-1]) == 1000
+    sim = r.stdout[r.stdout.index("rule simulate:"):]
+    resources = sim[sim.index("resources:"):].splitlines()[0]
+    assert "slurm_partition=test" in resources and "runtime=5" in resources and "mem_mb=1000" in resources
 
 
 def test_a_simulation_that_raises_is_recorded(tmp_path):

@@ -1,0 +1,146 @@
+"""The cluster path for real: the smoke study through SLURM with the
+cluster profile (profiles/slurm: per-rule resources, simulations grouped 50
+to a cluster job), the whole smoke DAG end to end, against the smoke
+study's simulations run locally (`snakemake --cores 2`, target
+study/runs.parquet: the rest of the DAG does not change P_max), bit for bit
+in P_max; and a group job killed with scancel.  About 20 min on two busy
+cores.  Needs a running SLURM (`make test-cluster` starts a one-node one with
+tools/local-slurm.sh); skipped when `sinfo` does not answer, and never part
+of `make test` (pyproject.toml deselects the marker)."""
+import shutil
+import subprocess
+import sys
+import time
+
+import pandas as pd
+import pytest
+
+pytestmark = pytest.mark.cluster
+
+SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+SMOKE = ["--configfile", "config/smoke.yaml"]
+
+
+def slurm_answers():
+    """None if SLURM is up (sinfo lists a partition that is up), else why not."""
+    if shutil.which("sinfo") is None:
+        return "no SLURM here (sinfo not found): start one with `make slurm-up` (tools/local-slurm.sh)"
+    try:
+        r = subprocess.run(["sinfo", "-h", "-o", "%P %a"], capture_output=True, text=True, timeout=30)
+    except subprocess.TimeoutExpired:
+        return "sinfo did not answer in 30 s: is slurmctld running? (make slurm-up)"
+    if r.returncode != 0:
+        return f"sinfo does not answer ({r.stderr.strip()[:200]}): start SLURM with `make slurm-up`"
+    if not any(line.split()[-1:] == ["up"] for line in r.stdout.splitlines()):
+        return f"no partition is up: {r.stdout.strip()!r}"
+    return None
+
+
+def sacct(run_id):
+    """The cluster jobs of one Snakemake run (its jobs are named by its run id)."""
+    out = subprocess.run(["sacct", "-X", "-P", "-n", "--name", run_id, "-S", "now-1days", "-o",
+                          "JobID,State,AllocCPUS,ReqMem,Timelimit,Elapsed,Comment"],
+                         capture_output=True, text=True, check=True).stdout
+    cols = ["job", "state", "cpus", "mem", "timelimit", "elapsed", "comment"]
+    return pd.DataFrame([line.split("|") for line in out.splitlines() if line], columns=cols)
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    reason = slurm_answers()
+    if reason:
+        pytest.skip(reason)
+
+
+@pytest.fixture(scope="module")
+def local(cluster, tmp_path_factory):
+    """The smoke study's simulations and their table, run locally."""
+    res = tmp_path_factory.mktemp("local") / "results"
+    t0 = time.monotonic()
+    r = subprocess.run(SNAKEMAKE + [f"{res}/study/runs.parquet", "--cores", "2"] + SMOKE
+                       + ["--config", f"results={res}"], capture_output=True, text=True)
+    assert r.returncode == 0, (r.stdout + r.stderr)[-5000:]
+    print(f"\nsmoke study's runs locally: {time.monotonic() - t0:.0f} s")
+    return pd.read_parquet(res / "study" / "runs.parquet")
+
+
+@pytest.fixture(scope="module")
+def runs(cluster, tmp_path_factory):
+    """The whole smoke DAG on the cluster, end to end."""
+    root = tmp_path_factory.mktemp("cluster")
+    t0 = time.monotonic()
+    r = subprocess.run(SNAKEMAKE + ["--profile", "profiles/slurm"] + SMOKE + ["--config", f"results={root}"],
+                       capture_output=True, text=True)
+    log = r.stdout + r.stderr
+    assert r.returncode == 0, log[-5000:]
+    print(f"\nsmoke through SLURM (whole DAG): {time.monotonic() - t0:.0f} s")
+    run_id = [x.split()[-1] for x in log.splitlines() if x.startswith("SLURM run ID:")][0]
+    return root, run_id, log
+
+
+def same_p_max(a, b):
+    """Same rows, and P_max the same float64s bit for bit, not merely close."""
+    key = ["variant", "sigma_v_mpa", "sample"]
+    a, b = a.sort_values(key).reset_index(drop=True), b.sort_values(key).reset_index(drop=True)
+    assert len(a) == len(b) == 32 and (a[key] == b[key]).all().all()
+    assert (a.P_max_kN.to_numpy().view("u8") == b.P_max_kN.to_numpy().view("u8")).all()
+    assert (a.failure_mode == b.failure_mode).all() and (a.status == b.status).all()
+
+
+def test_cluster_study_matches_local_bit_for_bit(runs, local):
+    root, _, _ = runs
+    same_p_max(pd.read_parquet(root / "study" / "runs.parquet"), local)
+
+
+def test_cluster_jobs_were_grouped_and_accounted(runs):
+    """Every job went through SLURM and its accounting: one group job held
+    all 32 simulations (group-components 50) on 2 cores (the profile's limit
+    per job, not 32 cores) with 16 layers x 5 min, and every job completed."""
+    root, run_id, log = runs
+    jobs = sacct(run_id)
+    submitted = [x for x in log.splitlines() if "has been submitted with SLURM jobid" in x]
+    assert len(jobs) == len(submitted) > 30, jobs.to_string()
+    assert (jobs.state == "COMPLETED").all(), jobs.to_string()
+    groups = jobs[jobs.comment == "rule_simulations_simulate"]
+    assert len(groups) == 1, jobs.to_string()
+    g = groups.iloc[0]
+    assert (g.cpus, g.mem, g.timelimit) == ("2", "2000M", "01:20:00"), g
+    assert not jobs.comment.str.startswith("rule_simulate_wildcards").any()  # no simulation on its own
+    assert (root / "study" / "statistics.csv").stat().st_size > 0
+
+
+def test_killed_group_job_rerun_finishes_only_what_is_missing(local, tmp_path):
+    """scancel the simulations' group job halfway: Snakemake reports the
+    failure (no retry here: --retries 0) and keeps the simulations the job
+    had finished (keep-incomplete); the rerun plans and runs only the missing
+    ones, and the table matches the local run bit for bit."""
+    res = tmp_path / "results"
+    cmd = SNAKEMAKE + [f"{res}/study/runs.parquet", "--profile", "profiles/slurm"] + SMOKE + ["--config",
+                                                                                             f"results={res}"]
+    out = tmp_path / "killed.log"  # a file, not a pipe: Snakemake would block on a full pipe
+    with open(out, "w") as f:
+        p = subprocess.Popen(cmd + ["--retries", "0"], stdout=f, stderr=subprocess.STDOUT)
+        killed = None
+        deadline = time.monotonic() + 1800
+        while p.poll() is None and time.monotonic() < deadline:
+            time.sleep(5)
+            done = list((res / "study" / "runs").glob("*/sv*/s*_curve.json"))
+            if killed is None and len(done) >= 4:
+                q = subprocess.run(["squeue", "-h", "-t", "RUNNING", "-o", "%i %k"], capture_output=True, text=True)
+                ids = [x.split()[0] for x in q.stdout.splitlines() if x.split()[1:] == ["rule_simulations_simulate"]]
+                if ids:
+                    subprocess.run(["scancel", ids[0]], check=True)
+                    killed = ids[0]
+        if p.poll() is None:
+            p.kill()
+    log = out.read_text()
+    assert killed, "the group job was never seen running: " + log[-3000:]
+    assert p.returncode not in (0, None) and "Error in group simulations" in log, log[-3000:]
+    kept = len(list((res / "study" / "runs").glob("*/sv*/s*_curve.json")))
+    assert 4 <= kept < 32
+    plan = subprocess.run(cmd + ["-n"], capture_output=True, text=True).stdout
+    line = [x for x in plan.splitlines() if x.split()[:1] == ["simulate"]]
+    assert line and int(line[0].split()[-1]) == 32 - kept, plan[-3000:]
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    assert r.returncode == 0, (r.stdout + r.stderr)[-5000:]
+    same_p_max(pd.read_parquet(res / "study" / "runs.parquet"), local)
