@@ -49,10 +49,6 @@ def _per(values, n, default):
     return np.asarray(values, float) if values is not None else np.full(n, float(default))
 
 
-def _per(values, n, default):
-    return np.asarray(values, float) if values is not None else np.full(n, float(default))
-
-
 def build(scene):
     """Builds the specimen of a validated scene: units, joints with their
     properties, supports and load strips, precompression."""
