@@ -9,8 +9,8 @@ Prints one JSON line; per unit model (under "models"):
   ns_per_subcontact_step  joint kernel time / (sub-contacts x steps)
   steps_per_s             whole time steps per second (zones or cells,
                           joints, bearings, node update, histories)
-and, at the top level, the elasto-plastic model's figures (the scene's own
-physics), its figures in brick failure, and
+and, at the top level, the elasto-plastic model's figures (the source
+paper's model), its figures in brick failure, and
   kernel_load_s           a fresh process: time of the first time step of a
                           small model once the kernels are cached (import of
                           the package not included; reported apart)
@@ -47,19 +47,19 @@ from masonrydem.specimen import build  # noqa: E402
 SCENE = "config/scenes/willis.yaml"
 TINY = ["geometry.courses=2", "geometry.units_per_course=2", "numerics.cells=[1, 1, 1]",
         "loading.bending.supports_x=[0.1, 0.5]", "loading.bending.loads_x=[0.25, 0.35]"]
-PC = ["physics.blocks=potential-crack", "numerics.elastic_element=hex8i"]
-# unit model -> its overrides (wallette, tiny wallette): the scene's own
-# elasto-plastic zones, elastic units as zones and as linear cells, the
-# potential-crack units on the study's mesh (config/config.yaml), rigid units
+# unit model -> its overrides (wallette, tiny wallette): the source paper's
+# elasto-plastic zones, elastic units as zones and as linear cells and
+# rigid units, all on 5x2x2 cells per unit; the potential-crack units on
+# the study's mesh (the scene's own settings)
+MESH = ["numerics.cells=[5, 2, 2]"]
+EP, EL = ["physics.blocks=elasto-plastic"], ["physics.blocks=elastic"]
 MODELS = {
-    "elasto-plastic": ([], []),
-    "elastic-zones": (["physics.blocks=elastic"], ["physics.blocks=elastic"]),
-    "elastic-tet10": (["physics.blocks=elastic", "numerics.elastic_element=tet10"],
-                      ["physics.blocks=elastic", "numerics.elastic_element=tet10"]),
-    "elastic-hex8i": (["physics.blocks=elastic", "numerics.elastic_element=hex8i"],
-                      ["physics.blocks=elastic", "numerics.elastic_element=hex8i"]),
-    "potential-crack-2x4x3": ([*PC, "numerics.cells=[2, 4, 3]"], [*PC, "numerics.cells=[2, 1, 1]"]),
-    "rigid": (["physics.blocks=rigid"], ["physics.blocks=rigid"]),
+    "elasto-plastic": ([*EP, *MESH], EP),
+    "elastic-zones": ([*EL, "numerics.elastic_element=zones", *MESH], [*EL, "numerics.elastic_element=zones"]),
+    "elastic-tet10": ([*EL, "numerics.elastic_element=tet10", *MESH], [*EL, "numerics.elastic_element=tet10"]),
+    "elastic-hex8i": ([*EL, "numerics.elastic_element=hex8i", *MESH], [*EL, "numerics.elastic_element=hex8i"]),
+    "potential-crack-2x3x2": ([], ["numerics.cells=[2, 1, 1]"]),
+    "rigid": (["physics.blocks=rigid", *MESH], ["physics.blocks=rigid"]),
 }
 STRONG = ["materials.joints.ft=1.0e6", "materials.joints.GI=30.0"]
 
@@ -188,7 +188,7 @@ def main(tiny=False):
     for name, (full, small) in MODELS.items():
         base = small + TINY if tiny else full
         models[name] = kernel_times(base, steps, ramp)
-        if name in ("elasto-plastic", "potential-crack-2x4x3"):
+        if name in ("elasto-plastic", "potential-crack-2x3x2"):
             # strong joints: the bricks crack (brick failure), so the plastic path runs
             brick = kernel_times(base + STRONG, int(1.5 * steps), ramp)
             models[name]["brick_failure"] = {k: v for k, v in brick.items()

@@ -28,7 +28,8 @@ from masonrydem.runner import run_scene  # noqa: E402
 from masonrydem.scene import load_scene  # noqa: E402
 
 W = "config/scenes/willis.yaml"
-COARSE = ["numerics.cells=[2, 2, 1]", "loading.bending.rate=1.0e-7", "loading.bending.max_displacement=1.5e-3"]
+COARSE = ["physics.blocks=elasto-plastic", "numerics.cells=[3, 2, 1]", "loading.bending.rate=1.0e-7",
+          "loading.bending.max_displacement=1.5e-3", "loading.bending.load_drop=0.5"]
 STRONG = ["materials.joints.ft=1.0e6", "materials.joints.GI=30.0"]
 RUNS = {
     "mc_sv0": (W, COARSE),
@@ -50,6 +51,7 @@ RUNS = {
 
 
 def study_numerics():
+    """The config's numerics (empty: the scene's own, the study's)."""
     with open("config/config.yaml") as f:
         return yaml.safe_load(f)["numerics"]
 

@@ -184,9 +184,10 @@ def test_the_scenes_of_the_project_are_accepted():
 def test_size_estimate_bounds_the_model_built():
     """model_size counts what build makes: its nodes, tetrahedra and linear
     cells exactly, its sub-contacts from above (within a factor 2)."""
-    for overrides in (["numerics.cells=[3, 1, 1]", "numerics.subcontact_refine=2"],
+    for overrides in (["physics.blocks=elasto-plastic", "numerics.cells=[3, 1, 1]", "numerics.subcontact_refine=2"],
                       ["physics.blocks=potential-crack", "numerics.elastic_element=hex8i", "numerics.cells=[2, 2, 1]"],
-                      ["physics.blocks=rigid", "numerics.subcontact_refine=3"]):
+                      ["physics.blocks=rigid", "numerics.subcontact_refine=3"],
+                      ["physics.blocks=elastic", "numerics.cells=[4, 2, 2]", "geometry.bond_offset=0.25"], []):
         scene = load_scene(WILLIS, overrides)
         a = build(scene).model.build()
         size = model_size(scene)
@@ -216,7 +217,7 @@ def test_internal_error_writes_its_row_and_exits_3(tmp_path, monkeypatch, capsys
     assert "RuntimeError: boom" in capsys.readouterr().err
     row = pd.read_parquet(tmp_path / "result.parquet").iloc[0]
     assert row["status"] == "error" and not row["ok"] and row["message"] == "RuntimeError: boom"
-    assert row["scene"] == "willis" and row["cells"] == "5x2x2"
+    assert row["scene"] == "willis" and row["cells"] == "x".join(map(str, load_scene(WILLIS)["numerics"]["cells"]))
     curve = pd.read_parquet(tmp_path / "curve.parquet")
     assert len(curve) == 0 and list(curve.columns) == list(runner.CURVE_COLUMNS)
 

@@ -112,13 +112,14 @@ def test_a_cell_lies_where_a_crack_runs_through_a_unit():
     is centred on that plane (its nodes are h/2 away); an even number,
     which puts a node plane there, is refused for elasto-plastic units,
     naming the field; elastic units, which cannot crack, take any."""
+    ep = "physics.blocks=elasto-plastic"
     for n in (3, 5, 7, 9):
-        blk = build(load_scene(WILLIS, [f"numerics.cells=[{n}, 2, 2]"])).model.blocks[0]
+        blk = build(load_scene(WILLIS, [ep, f"numerics.cells=[{n}, 2, 2]"])).model.blocks[0]
         x = np.linspace(blk.lo[0], blk.hi[0], n + 1)
         mid = 0.5 * (blk.lo[0] + blk.hi[0])
         assert np.min(np.abs(x - mid)) == pytest.approx(0.5 * (blk.hi[0] - blk.lo[0]) / n, rel=1e-12)
     with pytest.raises(InputError) as e:
-        load_scene(WILLIS, ["numerics.cells=[8, 6, 2]"])
+        load_scene(WILLIS, [ep, "numerics.cells=[8, 6, 2]"])
     assert e.value.field == "numerics.cells.0" and "odd" in e.value.reason
     load_scene(WILLIS, ["numerics.cells=[8, 6, 2]", "physics.blocks=elastic"])
 

@@ -9,7 +9,8 @@ from masonrydem.scene import load_scene
 from masonrydem.specimen import build
 from masonrydem.study import study_scene
 
-BASE = load_scene("config/scenes/willis.yaml")
+# the source paper's elasto-plastic units, whose zones carry the unit's properties
+BASE = load_scene("config/scenes/willis.yaml", ["physics.blocks=elasto-plastic", "numerics.cells=[3, 1, 1]"])
 
 
 def test_nonspatial_sample_reaches_every_zone_and_joint():

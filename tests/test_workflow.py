@@ -17,7 +17,7 @@ SNAKEMAKE = [sys.executable, "-m", "snakemake"]
 @pytest.fixture(scope="module")
 def smoke(tmp_path_factory):
     root = tmp_path_factory.mktemp("smoke") / "results"
-    r = subprocess.run(SNAKEMAKE + ["--cores", "2", "--configfile", "config/smoke.yaml",
+    r = subprocess.run(SNAKEMAKE + ["all", "accuracy", "--cores", "2", "--configfile", "config/smoke.yaml",
                                     "--config", f"results={root}", "-q"], capture_output=True, text=True)
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
     return root
@@ -115,6 +115,24 @@ def test_smoke_specimens(smoke):
     assert "c + sigma tan phi" in (smoke / "report" / "specimens.rst").read_text()
 
 
+def test_report_opens_on_the_study(smoke, tmp_path):
+    """The README's report command builds the report, the accuracy study's
+    summaries included, and its landing page (workflow/report/workflow.rst,
+    filled by the rule statistics) says what was run and holds the study's
+    key table, one row per variant and level."""
+    import zipfile
+    out = tmp_path / "report.zip"
+    r = subprocess.run(SNAKEMAKE + ["--report", str(out), "all", "accuracy", "--configfile", "config/smoke.yaml",
+                                    "--config", f"results={smoke}"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    names = zipfile.ZipFile(out).namelist()
+    assert any(n.endswith("choice.csv") for n in names) and any(n.endswith("statistics.csv") for n in names)
+    landing = (smoke / "report" / "workflow.rst").read_text()
+    assert "32 simulations" in landing and "2 x 8 Latin Hypercube samples" in landing
+    rows = [x for x in landing.splitlines() if x.startswith(("nonspatial ", "spatial "))]
+    assert len(rows) == 4, landing
+
+
 def test_rerun_does_nothing(smoke):
     """Nothing to do after a complete run (outputs are up to date)."""
     r = subprocess.run(SNAKEMAKE + ["-n", "--configfile", "config/smoke.yaml", "--config", f"results={smoke}"],
@@ -197,3 +215,36 @@ def test_lint_gives_only_the_software_advice(tmp_path):
     rules = [x for x in out.splitlines() if x.startswith("Lints for rule ")]
     assert findings and len(findings) == len(rules), out[-3000:]
     assert all(f.startswith("* Specify a conda environment or container") for f in findings), findings
+
+
+def test_a_validation_or_accuracy_run_that_raises_is_recorded(tmp_path, monkeypatch):
+    """Nothing lost in the rules that run workflow/scripts/run.py either: a
+    run that raises (here the simulation itself, replaced by one that
+    raises) writes its row with status 'error' and the exception as its
+    message, and an empty curve; the job ends normally."""
+    import runpy
+    import sys
+    from types import SimpleNamespace
+
+    import pandas as pd
+
+    import masonrydem.runner
+
+    def boom(scene, progress=True):
+        raise RuntimeError("a failure inside the run")
+
+    monkeypatch.setattr(masonrydem.runner, "run_scene", boom)
+    monkeypatch.setattr(sys, "stdout", sys.stdout)
+    monkeypatch.setattr(sys, "stderr", sys.stderr)
+    out = tmp_path / "runs" / "joint_sv0" / "default"
+    sm = SimpleNamespace(input=SimpleNamespace(scene="config/scenes/willis.yaml"),
+                         params=SimpleNamespace(overrides=["geometry.courses=2"]),
+                         output=SimpleNamespace(result=str(out / "result.parquet"), curve=str(out / "curve.parquet"),
+                                                keys=lambda: ["result", "curve"]),
+                         log=[str(tmp_path / "run.log")], wildcards=["joint_sv0", "default"], threads=1)
+    runpy.run_path("workflow/scripts/run.py", init_globals={"snakemake": sm})
+    row = pd.read_parquet(out / "result.parquet").iloc[0]
+    assert row["status"] == "error" and not row["ok"]
+    assert row["message"] == "RuntimeError: a failure inside the run"
+    assert row["scene"] == "willis:joint_sv0:default"
+    assert pd.read_parquet(out / "curve.parquet").empty

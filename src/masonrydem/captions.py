@@ -100,6 +100,29 @@ def sampling_check(check, achieved):
                 cov_dev=100 * (check.cov_sample / check.cov_target - 1).abs().max())
 
 
+def landing(runs, stats, excluded):
+    """The report's landing page (workflow.rst): what was run, how, and the
+    study's key table (mean P_max, COV, brick share per variant and level)."""
+    rows = [(r.variant, f"{r.sigma_v_mpa:g}", f"{r.P_max_mean_kN:.2f}", f"{r.strength_mean_mpa:.3f}",
+             _num(r.P_max_cov, ".3f"), f"{100 * r.brick_share:.0f}", str(r.count))
+            for r in stats[stats["mode"] == "all"].itertuples()]
+    head = ("variant", "sigma_v (MPa)", "mean P_max (kN)", "strength (MPa)", "COV", "brick (%)", "runs")
+    widths = [max(len(x) for x in col) for col in zip(head, *rows)]
+    rule = "  ".join("=" * w for w in widths)
+    line = lambda cells: "  ".join(c.ljust(w) for c, w in zip(cells, widths)).rstrip()  # noqa: E731
+    levels = sorted(runs.sigma_v_mpa.unique())
+
+    def one(col):
+        vals = runs[col].dropna().astype(str).unique() if col in runs else []
+        return ", ".join(vals) if len(vals) else "not recorded (rows of an older format)"
+
+    return dict(total=len(runs), variants=runs.variant.nunique(), n_samples=runs["sample"].nunique(),
+                n_levels=len(levels), levels=", ".join(f"{x:g}" for x in levels), blocks=one("blocks"),
+                cells=one("cells"), refine=one("subcontact_refine"), solver=one("solver_version"), excluded=excluded,
+                cpu_h=float(runs["wall_time_s"].sum()) / 3600 if "wall_time_s" in runs else float("nan"),
+                table="\n".join([rule, line(head), rule, *map(line, rows), rule]))
+
+
 def statistics(runs, stats, corr, inc):
     """Captions of the statistics, correlations and increase tables (by
     template name); ``inc`` is analysis.increase from the lowest to the
@@ -123,6 +146,7 @@ def statistics(runs, stats, corr, inc):
         corr_lines.append(f"{r.variant}, {r.sigma_v_mpa:g} MPa: {top} ({vals[top]:+.2f}); "
                           + ", ".join(f"{n} {v:+.2f}" for n, v in vals.items()))
     return dict(
+        workflow=landing(runs, stats, len(bad)),
         statistics=dict(excluded=len(bad), total=len(runs), lines=_bullets(stat_lines),
                         excluded_detail=(" (" + ", ".join(f"{k}: {v}" for k, v in bad.status.value_counts().items())
                                          + ")") if len(bad) else ""),

@@ -4,7 +4,8 @@ simulate runs it as a shell command, with no Snakemake script wrapper):
   python -m masonrydem.job SCENE --samples samples_V.json --variant V --sv MPA
       --sample N [--set key=value ...] --result RESULT.json --curve CURVE.json
 
-It imports only what a simulation needs (no pandas, no scipy), writes its
+It imports only what a simulation needs (no pandas; of scipy only the BLAS
+that the linear cells' products call), writes its
 row and its curve as JSON whatever happens (a run that raises is recorded
 with status 'error' and the exception as its message), and reports its own
 start-up: ``startup_s``, from the interpreter's start to the first step's

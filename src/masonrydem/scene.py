@@ -206,9 +206,13 @@ def model_size(scene):
 
     bend = scene["loading"]["bending"]
     strips = len(bend["supports_x"]) + len(bend["loads_x"]) if scene["loading"]["test"] == "bending" else 0
-    # per unit a head joint (and its crack interface) and a bed joint on two
-    # offset face grids; strips across the wall's height, a few cells wide
-    subs = units * (pieces * simpson(b, c) + simpson(2 * a, b)) + strips * simpson(g["courses"] * c, 3)
+    # per unit a head joint (and its crack interface) and a bed joint on the
+    # union of two face grids, offset by the bond (their lines coincide when
+    # the offset falls on a grid line); strips across the wall's height, a
+    # few cells wide
+    shift = g["bond_offset"] * a
+    along = a if abs(shift - round(shift)) < 1e-9 else 2 * a
+    subs = units * (pieces * simpson(b, c) + simpson(along, b)) + strips * simpson(g["courses"] * c, 3)
     hexes = 0 if model.rigid else units * a * b * c
     zones = model.material is not Elastic or num["elastic_element"] == "zones"
     size = dict(nodes=strips + units * (pieces if model.rigid else (a + pieces) * (b + 1) * (c + 1)),

@@ -1,4 +1,4 @@
-STATISTICS_CAPTIONS = ["statistics", "correlations", "increase"]
+STATISTICS_CAPTIONS = ["statistics", "correlations", "increase", "workflow"]  # workflow: the landing page
 
 
 rule sample:

@@ -1,0 +1,68 @@
+"""The README's commands work as written (issue 24).  The cheap ones run:
+its Python example, its first `masonrydem run` (the study's reference
+wallette), and every Snakemake command in it as a dry run; the smoke run
+and the report command run in tests/test_workflow.py."""
+import os
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+README = (ROOT / "README.md").read_text()
+
+
+def _commands(program):
+    """The README's commands that start with .venv/bin/PROGRAM, in code
+    blocks (backslash continuations joined) and in inline code spans."""
+    blocks = re.findall(r"```\n(.*?)```", README, re.S)
+    lines = [x.split("#")[0].strip() for b in blocks for x in b.replace("\\\n", " ").splitlines()]
+    spans = [" ".join(x.split()) for x in re.findall(r"`([^`]+)`", re.sub(r"```.*?```", "", README, flags=re.S))]
+    return [shlex.split(c) for c in lines + spans if c.startswith(f".venv/bin/{program} ")]
+
+
+def test_python_example_runs():
+    code = re.search(r"```python\n(.*?)```", README, re.S).group(1)
+    r = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert r.stdout.split()[-1] == "converged"
+
+
+def test_first_masonrydem_run_gives_the_studys_reference(tmp_path):
+    """`masonrydem run config/scenes/willis.yaml --out runs/ref` (output
+    folder moved to a temporary one): what the scene file says is what the
+    study runs, so its P_max and steps are those of the workflow's
+    reference run (results/validation/summary.csv, reference at 0 MPa)."""
+    cmd = _commands("masonrydem")[0]
+    assert cmd[1:3] == ["run", "config/scenes/willis.yaml"] and "--set" not in cmd
+    cmd[cmd.index("--out") + 1] = str(tmp_path / "ref")
+    r = subprocess.run([sys.executable, "-m", "masonrydem.cli", *cmd[1:], "--quiet"], cwd=ROOT, capture_output=True,
+                       text=True)
+    assert r.returncode == 0, r.stderr[-2000:]
+    row = pd.read_parquet(tmp_path / "ref" / "result.parquet").iloc[0]
+    ref = pd.read_csv(ROOT / "results/validation/summary.csv").set_index("run").loc["reference_sv0.0"]
+    assert float(f"{row['P_max_kN']:.5g}") == ref["P_max_kN"] and row["steps"] == ref["steps"]
+
+
+SNAKEMAKE = _commands("snakemake")
+
+
+@pytest.mark.parametrize("cmd", [c for c in SNAKEMAKE if not {"--report", "--unlock"} & set(c)], ids=" ".join)
+def test_snakemake_commands_plan(cmd):
+    """Each Snakemake command of the README plans as written (dry run:
+    nothing runs, nothing is written under results/).  The cluster profile
+    takes its partition from MASONRYDEM_SLURM_PARTITION."""
+    env = dict(os.environ, MASONRYDEM_SLURM_PARTITION="test")
+    r = subprocess.run([sys.executable, "-m", "snakemake", *cmd[1:], "-n", "--quiet", "rules"], cwd=ROOT,
+                       capture_output=True, text=True, env=env)
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
+
+
+def test_the_readme_names_its_commands():
+    """The commands above are found (a README rewritten without them would
+    make those tests vacuous)."""
+    assert len(SNAKEMAKE) >= 6 and _commands("masonrydem")
