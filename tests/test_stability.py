@@ -246,10 +246,16 @@ def test_smaller_fracture_energy_never_carries_more(runs):
 
 
 def test_precompression_raises_the_peak(runs):
-    """More precompression, more capacity: P_max grows from 0 to 0.5, 1
-    and 2 MPa."""
+    """More precompression, more capacity, until the units govern: P_max
+    grows from 0 to 0.5 MPa, where the wallette fails through its units, and
+    from there on never falls.  A unit cracks through on a vertical plane,
+    which the vertical precompression does not load, so at 0.5, 1 and 2 MPa
+    the peak is the same up to the sampling of the load history (at the
+    defaults 17.79615, 17.79613 and 17.80401 kN): 'never falls' allows
+    1e-5 of it."""
     P = [runs[n][0]["P_max_kN"] for n in ("reference", "sv_0.5", "sv_1", "sv_2")]
-    assert P == sorted(P)
+    assert P[1] > 1.1 * P[0] and runs["sv_0.5"][0]["failure_mode"] == "brick"
+    assert all(b >= a * (1.0 - 1e-5) for a, b in zip(P[1:], P[2:])), P
 
 
 @pytest.mark.parametrize("name", HALF_RATE)
