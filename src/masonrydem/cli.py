@@ -11,7 +11,6 @@ an internal error (a run that raised still writes its row, status
 import argparse
 import sys
 import tempfile
-import time
 import traceback
 from pathlib import Path
 
@@ -56,19 +55,12 @@ def _run(args):
     out = output_dir(args.out)
     import numba
 
-    from .runner import record_error, run_scene, write_outputs
+    from .runner import run_and_write
     numba.set_num_threads(args.threads)
-    t0 = time.perf_counter()
-    try:
-        row, curve, specimen, solver = run_scene(scene, progress=not args.quiet)
-    except InputError:
-        raise
-    except Exception as e:   # nothing lost: the row says what happened
-        traceback.print_exc()
-        row = record_error(out, scene, e, time.perf_counter() - t0)
+    row, error = run_and_write(out, scene, progress=not args.quiet, state=scene["outputs"]["state"])
+    if error is not None:
         print(f"masonrydem: internal error: {row['message']} (status 'error' -> {out})", file=sys.stderr)
         return 3
-    write_outputs(out, row, curve, specimen, solver, state=scene["outputs"]["state"])
     print(f"{row['status']}: P_max {row['P_max_kN']:.3f} kN at {row['disp_at_peak_mm']:.3f} mm, "
           f"strength {row['strength_mpa']:.3f} MPa, {row['classification']}; "
           f"{row['steps']} steps, {row['wall_time_s']:.1f} s -> {out}")

@@ -18,6 +18,7 @@ from threadpoolctl import threadpool_limits
 from . import __version__, source_hash
 from . import kernels as K
 from .classify import classify
+from .errors import InputError
 from .solver import PEAK_UNBALANCE, Solver
 from .specimen import build, strength
 
@@ -212,6 +213,24 @@ def record_error(out_dir, scene, error, wall_time_s=math.nan):
     row = error_row(scene, error, wall_time_s)
     write_outputs(out_dir, row, pd.DataFrame({c: [] for c in CURVE_COLUMNS}))
     return row
+
+
+def run_and_write(out_dir, scene, progress=True, state=False):
+    """``run_scene`` with its outputs written into ``out_dir``
+    (``write_outputs``).  Nothing lost: a run that raises (refused input
+    aside) writes its error row and an empty curve instead
+    (``record_error``).  Returns (row, the exception or None)."""
+    t0 = time.perf_counter()
+    try:
+        row, curve, specimen, solver = run_scene(scene, progress=progress)
+    except InputError:
+        raise
+    except Exception as e:   # nothing lost: the row says what happened
+        import traceback
+        traceback.print_exc()
+        return record_error(out_dir, scene, e, time.perf_counter() - t0), e
+    write_outputs(out_dir, row, curve, specimen, solver, state=state)
+    return row, None
 
 
 def write_outputs(out_dir, row, curve, specimen=None, solver=None, state=False):

@@ -13,24 +13,14 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 from pathlib import Path  # noqa: E402
 
-import time  # noqa: E402
-import traceback  # noqa: E402
-
-from masonrydem.runner import record_error, run_scene, write_outputs  # noqa: E402
+from masonrydem.runner import run_and_write  # noqa: E402
 from masonrydem.scene import load_scene  # noqa: E402
 
 scene = load_scene(sm.input.scene, sm.params.overrides)
 scene["name"] = ":".join([scene["name"], *sm.wildcards])
-out = Path(sm.output.result).parent
-t0 = time.perf_counter()
-try:
-    row, curve, specimen, solver = run_scene(scene, progress=True)
-except Exception as e:  # nothing lost: the row says what happened
-    traceback.print_exc()
-    row = record_error(out, scene, e, time.perf_counter() - t0)
-    if "state" in sm.output.keys():   # an empty final state: the run left none
-        import pyvista as pv
-        pv.MultiBlock().save(sm.output.state)
-else:
-    write_outputs(out, row, curve, specimen, solver, state="state" in sm.output.keys())
+state = "state" in sm.output.keys()
+row, error = run_and_write(Path(sm.output.result).parent, scene, progress=True, state=state)
+if error is not None and state:   # an empty final state: the run left none
+    import pyvista as pv
+    pv.MultiBlock().save(sm.output.state)
 print(row)
