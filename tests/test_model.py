@@ -196,3 +196,48 @@ def test_refused_strip_leaves_nothing_behind():
     with pytest.raises(InputError, match="strips.s.velocity"):
         m.add_strip("s", 2, 0.1, +1, ((0, 0.1), (0, 0.1)), kn=1e10, velocity=(0, 1))
     assert m.build().bearings.area.size == 0 and m.strips == []
+
+
+def test_rate_change_is_a_ramp():
+    """Solver.set_rate(F, N) takes the prescribed velocities from factor 1
+    to F linearly over N steps: a node prescribed v moves by
+    v sum_k (1 + (F - 1) min(1, k/N)) after T >= N steps (exact up to
+    roundoff); back to 1 alike."""
+    m = _dynamic_block()
+    top = m.select(lambda x: x[:, 2] > 0.1 - 1e-9)
+    m.fix(top, dofs=[2], velocity=1e-6)
+    s = Solver(m, chunk=100)
+    F, N, T = 3.0, 300, 1000
+    s.set_rate(F, N)
+    s.cycle(T)
+    k = np.arange(1, T + 1)
+    assert s.velocity_factor == F
+    assert s.u[top, 2] == pytest.approx(1e-6 * np.sum(1 + (F - 1) * np.minimum(1, k / N)), rel=1e-12)
+    s.set_rate(1.0, N)
+    s.cycle(T)
+    assert s.velocity_factor == 1.0
+    assert s.u[top, 2] == pytest.approx(1e-6 * (np.sum(1 + (F - 1) * np.minimum(1, k / N))
+                                                + np.sum(F - (F - 1) * np.minimum(1, k / N))), rel=1e-12)
+
+
+def test_joint_forces_gathered_per_node_add_what_a_scatter_adds():
+    """Each node gathers the forces of its sub-contacts (contacts.with_gather)
+    in sub-contact order: the sums are those of a loop that scatters each
+    sub-contact's force to its nodes (+w on side A, -w on side B), bit for
+    bit, on a wallette whose faces do not match node for node."""
+    from numba import njit
+
+    from masonrydem.kernels.joints import gather_forces
+    sc = build(validate_scene({"name": "t", "numerics": {"cells": [5, 2, 3]}})).model.build().joints
+    rng = np.random.default_rng(1)
+    force = rng.standard_normal(sc.force.shape)
+    f0 = rng.standard_normal((sc.gptr.size - 1, 3))
+    want = f0.copy()
+    for s in range(sc.area.size):
+        for k in range(sc.cnt[s, 0]):
+            want[sc.nodes[s, k]] += sc.w[s, k] * force[s]
+        for k in range(4, 4 + sc.cnt[s, 1]):
+            want[sc.nodes[s, k]] -= sc.w[s, k] * force[s]
+    got = f0.copy()
+    njit(lambda f, a, b, c, d: gather_forces(f, a, b, c, d))(got, sc.gptr, sc.gs, sc.gw, force)
+    assert np.array_equal(got, want)

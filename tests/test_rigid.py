@@ -168,17 +168,17 @@ def test_dry_contact_closes_its_gap_before_it_carries_compression():
     has closed by w; then sigma_n = k_n e (e the penetration); shear is
     bounded by -sigma_n tan(phi) and is zero while open."""
     props = JointProps(kn=1e10, ks=4e9, phi=30.0)
-    jp, js = props.row()[None, :], np.zeros((1, K.N_JS))
-    joint_friction(0, jp, js, 1e-4, 0.0, 0.0)          # opens by 0.1 mm
-    assert js[0, K.JS_SN] == 0.0 and js[0, K.JS_WP] == pytest.approx(1e-4)
-    joint_friction(0, jp, js, -0.6e-4, 1e-5, 0.0)      # closes part of the gap, slides: free
-    assert js[0, K.JS_SN] == 0.0 and js[0, K.JS_T1] == 0.0
-    joint_friction(0, jp, js, -0.5e-4, 0.0, 0.0)       # 0.01 mm past closure
-    assert js[0, K.JS_SN] == pytest.approx(-1e10 * 1e-5) and js[0, K.JS_WP] == 0.0
-    joint_friction(0, jp, js, 0.0, 1e-3, 0.0)          # slides at the friction limit
-    assert js[0, K.JS_T1] == pytest.approx(1e5 * math.tan(math.radians(30.0)))
-    joint_friction(0, jp, js, 2e-5, 0.0, 0.0)          # lifts off again: free
-    assert js[0, K.JS_SN] == 0.0 and js[0, K.JS_T1] == 0.0 and js[0, K.JS_WP] == pytest.approx(1e-5)
+    p, st = tuple(props.row()), (0.0,) * K.N_JS
+    st = joint_friction(p, st, 1e-4, 0.0, 0.0)          # opens by 0.1 mm
+    assert st[K.JS_SN] == 0.0 and st[K.JS_WP] == pytest.approx(1e-4)
+    st = joint_friction(p, st, -0.6e-4, 1e-5, 0.0)      # closes part of the gap, slides: free
+    assert st[K.JS_SN] == 0.0 and st[K.JS_T1] == 0.0
+    st = joint_friction(p, st, -0.5e-4, 0.0, 0.0)       # 0.01 mm past closure
+    assert st[K.JS_SN] == pytest.approx(-1e10 * 1e-5) and st[K.JS_WP] == 0.0
+    st = joint_friction(p, st, 0.0, 1e-3, 0.0)          # slides at the friction limit
+    assert st[K.JS_T1] == pytest.approx(1e5 * math.tan(math.radians(30.0)))
+    st = joint_friction(p, st, 2e-5, 0.0, 0.0)          # lifts off again: free
+    assert st[K.JS_SN] == 0.0 and st[K.JS_T1] == 0.0 and st[K.JS_WP] == pytest.approx(1e-5)
 
 
 def test_rigid_column_under_gravity_has_joint_stress_rho_g_height_above():

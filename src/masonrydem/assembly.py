@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import kernels as K
-from .contacts import Strip, SubContacts, find_joints
+from .contacts import Strip, SubContacts, find_joints, with_gather
 from .errors import InputError
 from .laws import joint_law
 from .elements import cell_stiffness
@@ -77,6 +77,7 @@ def _common(model, x0):
     bearings, bearing_points = model.strip_subcontacts.pack()
     strip_side = bearings.nodes[:, 4]
     bearings.nodes[:, 4] = np.where(strip_side < 0, nb - strip_side - 1, strip_side)
+    joints, bearings = with_gather(joints, nn), with_gather(bearings, nn)
     for i, s in enumerate(model.strips):
         s.node = nb + i
     fixed = np.zeros((nn, 3), np.uint8)

@@ -117,18 +117,36 @@ def simpson(breaks, refine=1):
     return pts, w
 
 
-def face_quadrature(rect, lines, refine=1):
+def face_quadrature(rect, lines, refine=(1, 1)):
     """Points (P, Q) and weights (areas) of the tensor-product composite
     Simpson rule on the rectangle ``rect`` = ((plo, phi), (qlo, qhi)) cut
     by the grid lines of every face involved (a joint: both faces; a strip
     or a pressure: the loaded face): ``lines`` = (p line arrays, q line
-    arrays), one array per face.
+    arrays), one array per face; ``refine`` = (r_p, r_q): each interval
+    split that many times along p and q.
     The weights sum to the rectangle's area, and their first moments to
     its centroid times its area, whatever the grids: a strip's resultant
     acts on its configured line."""
-    (pp, wp), (pq, wq) = (simpson(breakpoints(lo, hi, *ls), refine) for (lo, hi), ls in zip(rect, lines))
+    (pp, wp), (pq, wq) = (simpson(breakpoints(lo, hi, *ls), r) for (lo, hi), ls, r in zip(rect, lines, refine))
     P, Q = np.meshgrid(pp, pq, indexing="ij")
     return P.ravel(), Q.ravel(), np.outer(wp, wq).ravel()
+
+
+def refine_axes(refine, where="numerics.subcontact_refine"):
+    """A sub-contact refinement as one integer per global axis (x, y, z):
+    ``refine`` one integer >= 1 for all axes, or three."""
+    r = np.atleast_1d(np.asarray(refine, dtype=object))
+    if r.size == 1:
+        r = np.repeat(r, 3)
+    if r.size != 3 or not all(isinstance(x, (int, np.integer)) and not isinstance(x, bool) and x >= 1 for x in r):
+        raise InputError(where, f"must be an integer >= 1 or three of them (x, y, z), got {refine!r}")
+    return tuple(int(x) for x in r)
+
+
+def face_refine(refine, axis):
+    """The refinement (r_p, r_q) of a face normal to ``axis`` in its plane's
+    coordinates (p, q) = (axis+1, axis+2) mod 3, from one per global axis."""
+    return refine[(axis + 1) % 3], refine[(axis + 2) % 3]
 
 
 def face_point(axis, coord, P, Q):

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import kernels as K
-from .blocks import GEOM_TOL, face_point, face_quadrature, local_axes
+from .blocks import GEOM_TOL, face_point, face_quadrature, face_refine, local_axes
 from .errors import InputError
 from .laws import JointProps
 
@@ -78,7 +78,26 @@ class SubContacts:
             body=np.zeros((0, 2), np.int64), lever=np.zeros((0, 2, 3)),
             axes=np.array(self.axes, float).reshape(n, 9), area=np.array(self.area, float).reshape(n),
             par=np.array(self.par, float).reshape(n, K.N_JP), state=np.zeros((n, K.N_JS)),
+            force=np.zeros((n, 3)), gptr=np.zeros(1, np.int64), gs=np.zeros(0, np.int64), gw=np.zeros(0),
         ), np.array(self.point, float).reshape(n, 3)
+
+
+def with_gather(sc, n_nodes):
+    """``sc`` with its per-node gather of forces (kernels.Contacts): for
+    each node, the sub-contacts that it interpolates, in sub-contact order,
+    with their weights (side A +w, side B -w).  Each node then adds its
+    sub-contacts' forces in the order a loop over the sub-contacts would
+    (the same sums, bit for bit), without scattered writes."""
+    n = sc.area.shape[0]
+    k = np.arange(8)
+    used = np.where(k < 4, k[None, :] < sc.cnt[:, :1], k[None, :] - 4 < sc.cnt[:, 1:])     # (n, 8)
+    s_idx = np.broadcast_to(np.arange(n)[:, None], (n, 8))[used]
+    node = sc.nodes[used]
+    w = np.where(k < 4, sc.w, -sc.w)[used]
+    order = np.lexsort((s_idx, node))
+    gptr = np.zeros(n_nodes + 1, np.int64)
+    np.add.at(gptr, node + 1, 1)
+    return sc._replace(gptr=np.cumsum(gptr), gs=s_idx[order].astype(np.int64), gw=w[order])
 
 
 def find_joints(blocks, law, props, refine):
@@ -86,8 +105,8 @@ def find_joints(blocks, law, props, refine):
     The sub-contacts are the points of a rule exact for the bilinear
     fields of both faces (blocks.face_quadrature on the union of their
     grids), each interpolated on both faces.  ``props``: a JointProps, or a
-    function (block_a, block_b) -> JointProps; ``refine``: each interval
-    of the rule split that many times."""
+    function (block_a, block_b) -> JointProps; ``refine``: per global axis
+    (x, y, z), each interval of the rule split that many times along it."""
     boxes = [b for b in blocks if b.is_box]
     contacts, sc = [], SubContacts()
     for i, b1 in enumerate(boxes):
@@ -118,7 +137,7 @@ def _joint(cid, sc, lower, upper, axis, rect, law, props, refine):
     row = props.row()
     axes = local_axes(axis, sign)
     start = len(sc)
-    P, Q, A = face_quadrature(rect, zip(a.face_grid(axis), b.face_grid(axis)), refine)
+    P, Q, A = face_quadrature(rect, zip(a.face_grid(axis), b.face_grid(axis)), face_refine(refine, axis))
     for pp, qq, ar in zip(P, Q, A):
         na, wa = a.interpolate(axis, side_a, pp, qq)
         nb, wb = b.interpolate(axis, side_b, pp, qq)

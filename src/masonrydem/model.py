@@ -17,7 +17,7 @@ import numpy as np
 
 from . import kernels as K
 from .assembly import assemble
-from .blocks import Block, check_3, face_point, face_quadrature, local_axes
+from .blocks import Block, check_3, face_point, face_quadrature, face_refine, local_axes, refine_axes
 from .contacts import Strip, SubContacts, faces_on_plane
 from .elements import ELEMENTS
 from .errors import InputError
@@ -44,7 +44,7 @@ class Model:
         self._x0 = []
         self.joint_law = None
         self.joint_props = None
-        self.subcontact_refine = 1
+        self.subcontact_refine = (1, 1, 1)
         self.strips = []
         self.strip_subcontacts = SubContacts()
         self.fixities = {}           # node -> {dof: velocity}
@@ -115,14 +115,14 @@ class Model:
         """Joint law (by name, laws.JOINT_LAWS) and properties: a JointProps
         for all joints, or a function (block_a, block_b) -> JointProps.
         ``refine``: each interval of the union of both faces' cell grids is
-        split that many times, and the sub-contacts sit at the points of the
-        composite Simpson rule on it (blocks.face_quadrature)."""
+        split that many times (one integer, or one per global axis x, y, z),
+        and the sub-contacts sit at the points of the composite Simpson rule
+        on it (blocks.face_quadrature); strips follow the same refinement."""
         joint_law(law)
-        if not (isinstance(refine, (int, np.integer)) and refine >= 1):
-            raise InputError("joints.refine", f"must be an integer >= 1, got {refine!r}")
+        refine = refine_axes(refine, "joints.refine")
         self.joint_law = law
         self.joint_props = props
-        self.subcontact_refine = int(refine)
+        self.subcontact_refine = refine
         self._built = None
 
     @property
@@ -148,7 +148,8 @@ class Model:
         points = []
         for b, side, r in faces_on_plane(self.blocks, axis, coord, normal, rect):
             points += [(b.interpolate(axis, side, pp, qq), ar, face_point(axis, coord, pp, qq))
-                       for pp, qq, ar in zip(*face_quadrature(r, zip(b.face_grid(axis)), self.subcontact_refine))]
+                       for pp, qq, ar in zip(*face_quadrature(r, zip(b.face_grid(axis)),
+                                                                face_refine(self.subcontact_refine, axis)))]
         if not points:
             raise InputError(f"{where}.rect", "the strip touches no block face")
         sc = self.strip_subcontacts

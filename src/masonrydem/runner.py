@@ -19,7 +19,7 @@ from . import __version__, source_hash
 from . import kernels as K
 from .classify import classify
 from .errors import InputError
-from .solver import PEAK_UNBALANCE, Solver
+from .solver import PEAK_UNBALANCE, Solver, Speedup
 from .specimen import build, strength
 
 GOOD = ("load_drop", "displacement_limit")
@@ -59,8 +59,14 @@ def scene_inputs(scene):
         blocks=scene["physics"]["blocks"],
         elastic_element=scene["numerics"]["elastic_element"],
         cells="x".join(str(c) for c in scene["numerics"]["cells"]),
-        subcontact_refine=scene["numerics"]["subcontact_refine"],
+        subcontact_refine=refine_label(scene["numerics"]["subcontact_refine"]),
     )
+
+
+def refine_label(refine):
+    """A sub-contact refinement as the rows record it: '2', or '1x2x1' per
+    axis (as cells)."""
+    return "x".join(str(r) for r in refine) if isinstance(refine, (list, tuple)) else str(refine)
 
 
 def inputs_row(specimen):
@@ -124,8 +130,9 @@ def simulate(scene, progress=True):
     stage = specimen.stage
     if loaded:
         s.vpres[specimen.drive] = specimen.velocity
+        speedup = Speedup(stage["post_peak_rate"], DROP_WINDOW) if stage["post_peak_rate"] > 1 else None
         res = s.run(stage["max_steps"], disp_limit=u0 + stage["max_displacement"], load_drop=stage["load_drop"],
-                    monitor="load", balance="support", ramp_steps=stage["ramp_steps"],
+                    monitor="load", balance="support", ramp_steps=stage["ramp_steps"], speedup=speedup,
                     progress=Progress(specimen.test, u0) if progress else None)
     H = s.history.array()
     H = H[H[:, K.H_STEP] > start]         # the loading stage

@@ -22,6 +22,7 @@ from jsonschema import Draft202012Validator, validators
 
 from .errors import InputError, check_finite
 from .laws import BLOCK_MODELS, JOINT_LAWS, Elastic, MohrCoulomb
+from .blocks import refine_axes
 from .masonry import crack_band_error, running_bond_joints, wall_length
 
 
@@ -197,12 +198,13 @@ def model_size(scene):
     bytes (ITEM_BYTES)."""
     g, num = scene["geometry"], scene["numerics"]
     model = BLOCK_MODELS[scene["physics"]["blocks"]]
-    units, r = g["courses"] * g["units_per_course"], num["subcontact_refine"]
+    units = g["courses"] * g["units_per_course"]
+    rx, ry, rz = refine_axes(num["subcontact_refine"])
     pieces = 2 if model.crack_interface else 1
     a, b, c = max(num["cells"][0], pieces), num["cells"][1], num["cells"][2]
 
-    def simpson(m, n):      # points on a face of m x n intervals
-        return (2 * r * m + 1) * (2 * r * n + 1)
+    def simpson(m, rm, n, rn):      # points on a face of m x n intervals, refined rm and rn times
+        return (2 * rm * m + 1) * (2 * rn * n + 1)
 
     bend = scene["loading"]["bending"]
     strips = len(bend["supports_x"]) + len(bend["loads_x"]) if scene["loading"]["test"] == "bending" else 0
@@ -212,7 +214,8 @@ def model_size(scene):
     # few cells wide
     shift = g["bond_offset"] * a
     along = a if abs(shift - round(shift)) < 1e-9 else 2 * a
-    subs = units * (pieces * simpson(b, c) + simpson(along, b)) + strips * simpson(g["courses"] * c, 3)
+    subs = (units * (pieces * simpson(b, ry, c, rz) + simpson(along, rx, b, ry))
+            + strips * simpson(g["courses"] * c, rz, 3, rx))
     hexes = 0 if model.rigid else units * a * b * c
     zones = model.material is not Elastic or num["elastic_element"] == "zones"
     size = dict(nodes=strips + units * (pieces if model.rigid else (a + pieces) * (b + 1) * (c + 1)),

@@ -32,6 +32,22 @@ class RunResult:
 
 
 
+@dataclass(frozen=True)
+class Speedup:
+    """Faster loading on a branch well past the peak (``Solver.run``): once
+    the load-line displacement is ``after`` beyond the peak's and the load
+    below ``below`` x the peak, the prescribed velocities run ``factor``
+    times faster; back to the prescribed rate as soon as the load returns
+    above ``above`` x the peak, so that a later, higher peak is approached
+    at the prescribed rate (a peak counts only there: History).  Each
+    change of rate is a linear ramp over ``ramp_steps`` steps."""
+    factor: float
+    after: float
+    below: float = 0.95
+    above: float = 0.975
+    ramp_steps: int = 500
+
+
 @dataclass
 class History:
     """Decimated histories (every ``every`` steps, all runs, plus each
@@ -131,8 +147,8 @@ class Solver:
         self.nodes = a.nodes._replace(u=np.zeros((n, 3)), v=np.zeros((n, 3)), f=np.zeros((n, 3)), mass=mass,
                                       fixed=a.nodes.fixed.copy(), vpres=a.nodes.vpres.copy())
         self.zones = a.zones._replace(state=np.zeros_like(a.zones.state), stress=np.zeros_like(a.zones.stress))
-        self.joints = a.joints._replace(state=a.joints.state.copy())
-        self.bearings = a.bearings._replace(state=a.bearings.state.copy())
+        self.joints = a.joints._replace(state=a.joints.state.copy(), force=np.zeros_like(a.joints.force))
+        self.bearings = a.bearings._replace(state=a.bearings.state.copy(), force=np.zeros_like(a.bearings.force))
         self.bodies = a.bodies
         if self.rigid:
             iinv, crit_r = self._rotations(safety)
@@ -153,7 +169,8 @@ class Solver:
         self.work = np.zeros(2)   # work done on the model since the start, its largest value
         self.energy_in = None     # initial kinetic energy + work (set at the first step)
         self.velocity_factor = 1.0
-        self._ramp = 0.0          # velocity-factor increment per step
+        self._ramp = 0.0          # velocity-factor increment per step ...
+        self._vtarget = 1.0       # ... up (or down) to this
         self.step = 0
         self.chunk = int(chunk)
         self.ngrp = len(model.monitors)
@@ -222,26 +239,44 @@ class Solver:
             free = self.fixed == 0
             self.energy_in = float(0.5 * np.sum((self.mass[:, None] * self.v ** 2)[free]))
         ctl = K.Controls(self.step, self.dt, self.alpha, self.load_factor, self.velocity_factor, self._ramp,
-                         self.gravity)
+                         self._vtarget, self.gravity)
         status, done = run_chunk_entry(a.zlaw, a.jlaw, int(a.rigid), int(a.large), self.gravity_on, nsteps, ctl,
                                        self.nodes, self.zones, a.cells, self.joints, self.bearings, self.bodies,
                                        a.monitors, hist, self.work, self.scratch)
         hist = hist[:done]
-        # loading at full speed (the velocity ramp is over) at each step
-        loading = self.velocity_factor + np.arange(1, done + 1) * self._ramp >= 1.0
-        self.velocity_factor = min(1.0, self.velocity_factor + done * self._ramp)
+        vf = self._factors(done)
+        self.velocity_factor = float(vf[-1]) if done else self.velocity_factor
         for g in range(self.ngrp):
             hist[:, K.h_disp(g)] /= max(1, int(np.sum(a.monitors.group == g)))
-        self._record(hist, loading)
+        self._record(hist, vf)
         self.step += done
         return status, done
 
-    def _record(self, hist, loading):
+    def _factors(self, n):
+        """The velocity factors of the next n steps (as the kernel computes
+        them: a ramp to the target)."""
+        vf = self.velocity_factor + np.arange(1, n + 1) * self._ramp
+        return np.minimum(vf, self._vtarget) if self._ramp >= 0.0 else np.maximum(vf, self._vtarget)
+
+    def set_rate(self, factor, steps):
+        """Changes the velocity factor of the prescribed velocities (1: as
+        prescribed) from its current value to ``factor``, linearly over
+        ``steps`` steps (an abrupt change would shock the model)."""
+        self._vtarget = float(factor)
+        self._ramp = (self._vtarget - self.velocity_factor) / max(1, int(steps))
+
+    def _record(self, hist, vf):
+        """Keeps every ``every``-th row, each chunk's best balanced row per
+        monitor, and updates the peaks; ``vf``: each row's velocity factor
+        (a peak counts at the prescribed rate, vf = 1: not within the
+        starting ramp, nor while a ``Speedup`` runs faster, where the rate's
+        own error could pass for a new peak)."""
         h = self.history
         if hist.shape[0] == 0:
             return
         keep = hist[:, K.H_STEP] % h.every == 0
         keep[-1] = True
+        loading = vf == 1.0
         for g in range(self.ngrp):
             unbalance = self.unbalance(hist, g)
             balanced = (unbalance < PEAK_UNBALANCE) & loading
@@ -304,7 +339,7 @@ class Solver:
         return None
 
     def run(self, max_steps, ratio_tol=None, disp_limit=None, load_drop=None,
-            monitor=None, progress=None, ramp_steps=0, balance=None):
+            monitor=None, progress=None, ramp_steps=0, balance=None, speedup=None):
         """Cycles until a stop criterion holds:
 
         * ratio_tol: the unbalanced-force ratio fell below it ('converged');
@@ -319,19 +354,21 @@ class Solver:
         balance: the monitor whose reaction balances ``monitor``'s load in a
         static state (the supports of the load lines): a peak then counts
         when the load's own unbalance is small (History).
+        speedup: a ``Speedup`` of the rate after the peak (needs a monitor).
         Peaks (``history.peak``) are those of this run.
         ``progress(solver)`` is called after every chunk."""
         t0 = time.perf_counter()
         g = self.monitor_index(monitor) if monitor is not None else None
-        if (disp_limit is not None or load_drop is not None or balance is not None) and g is None:
-            raise InputError("run.monitor", "displacement, load-drop and balance criteria need a monitor")
+        if (disp_limit is not None or load_drop is not None or balance is not None or speedup is not None) \
+                and g is None:
+            raise InputError("run.monitor", "displacement, load-drop, balance and speed-up criteria need a monitor")
         start = self.step
         self.history.peak = {}
         self._balance = {g: self.monitor_index(balance)} if balance is not None else {}
         if ramp_steps:
-            self.velocity_factor, self._ramp = 0.0, 1.0 / ramp_steps
+            self.velocity_factor, self._ramp, self._vtarget = 0.0, 1.0 / ramp_steps, 1.0
         else:
-            self.velocity_factor, self._ramp = 1.0, 0.0
+            self.velocity_factor, self._ramp, self._vtarget = 1.0, 0.0, 1.0
         status, message = "max_steps", f"reached {max_steps} steps"
         chunks = 0
         high_ratio = 0
@@ -364,7 +401,17 @@ class Solver:
                 if load_drop is not None and peak > 0 and load < load_drop * peak:
                     status, message = "load_drop", f"load fell to {load / peak:.3f} of the peak"
                     break
+                if speedup is not None and peak > 0:
+                    self._speedup(speedup, load, disp, self.history.peak[g])
         return RunResult(status, message, self.step - start, time.perf_counter() - t0)
+
+    def _speedup(self, sp, load, disp, peak):
+        """Sets the rate after a chunk (``Speedup``)."""
+        past = abs(disp - peak[1]) >= sp.after
+        if self._vtarget == 1.0 and past and load < sp.below * peak[0]:
+            self.set_rate(sp.factor, sp.ramp_steps)
+        elif self._vtarget != 1.0 and load > sp.above * peak[0]:
+            self.set_rate(1.0, sp.ramp_steps)
 
     # --- results ----------------------------------------------------------
     def zone_damage(self):

@@ -1,13 +1,16 @@
 """Joint (contact) laws and the forces of the sub-contacts.
 
-A joint law has the signature law(s, jp, js, dun, dus1, dus2) -> None: it
-updates the tractions js[s, JS_SN] (tension positive), js[s, JS_T1],
-js[s, JS_T2] and the law's state from the relative displacement
-increments of sub-contact s (du_n opening positive, du_s in the two
-tangent directions).  ``joint_law`` dispatches on the law id (laws.py
-holds the table of laws).  One path serves deformable and rigid blocks:
-only the kinematics differ (how a sub-contact's relative velocity is
-gathered and its force spread), ``subcontact_law`` and
+A joint law is a pure function law(p, st, dun, dus1, dus2) -> st': p the
+sub-contact's parameters (a tuple laid out as the columns JP_*), st its
+state (tractions sigma_n (tension positive), tau_1, tau_2, then the law's
+state, as the columns JS_*), du_n (opening positive) and du_s the relative
+displacement increments in the two tangent directions; it returns the new
+state.  ``joint_law`` dispatches on the law id (laws.py holds the table of
+laws).  (Pure functions of scalars: an inlined function that took the
+arrays and branched kept numba's reference counting in the loop, 2.3
+times the cost of the whole sub-contact.)  One path serves deformable and
+rigid blocks: only the kinematics differ (how a sub-contact's relative
+velocity is gathered and its force spread); ``subcontact_law`` and
 ``traction_force`` are common.
 """
 import math
@@ -24,93 +27,94 @@ _INLINE = dict(cache=True, inline="always", error_model="numpy")
 
 
 @njit(**_INLINE)
-def joint_elastic(s, jp, js, dun, dus1, dus2):
+def joint_elastic(p, st, dun, dus1, dus2):
     """Linear springs: sigma_n += k_n du_n, tau += k_s du_s."""
-    js[s, JS_SN] += jp[s, JP_KN] * dun
-    js[s, JS_T1] += jp[s, JP_KS] * dus1
-    js[s, JS_T2] += jp[s, JP_KS] * dus2
+    return (st[JS_SN] + p[JP_KN] * dun, st[JS_T1] + p[JP_KS] * dus1, st[JS_T2] + p[JP_KS] * dus2,
+            st[JS_WP], st[JS_SP], st[JS_D])
 
 
 @njit(**_INLINE)
-def joint_bearing(s, jp, js, dun, dus1, dus2):
+def joint_bearing(p, st, dun, dus1, dus2):
     """Rigid bearing strip: compression-only normal spring, frictionless
     (a roller): sigma_n = min(0, sigma_n + k_n du_n), tau = 0."""
-    sn = js[s, JS_SN] + jp[s, JP_KN] * dun
-    js[s, JS_SN] = sn if sn < 0.0 else 0.0
+    sn = st[JS_SN] + p[JP_KN] * dun
+    return (sn if sn < 0.0 else 0.0, st[JS_T1], st[JS_T2], st[JS_WP], st[JS_SP], st[JS_D])
 
 
 @njit(**_INLINE)
-def _coulomb_return(s, jp, js, dun, dus1, dus2):
+def _coulomb_return(p, st, dun, dus1, dus2):
     """Elastic trial, then tension cut-off and Coulomb slip with the current
     (damaged) strengths f_t' = f_t (1-D), c' = c (1-D):
       sigma_n > f_t'  ->  sigma_n = f_t', w_p += excess opening;
       tau_max = max(0, c' - sigma_n tan(phi)); |tau| > tau_max -> scale tau
       back, s_p += excess slip.
-    Returns True if the joint yielded."""
-    kn = jp[s, JP_KN]
-    ks = jp[s, JP_KS]
-    dmg = js[s, JS_D]
-    sn = js[s, JS_SN] + kn * dun
-    t1 = js[s, JS_T1] + ks * dus1
-    t2 = js[s, JS_T2] + ks * dus2
-    ft = jp[s, JP_FT] * (1.0 - dmg)
-    c = jp[s, JP_C] * (1.0 - dmg)
+    Returns (sigma_n, tau_1, tau_2, w_p, s_p, whether the joint yielded)."""
+    kn = p[JP_KN]
+    ks = p[JP_KS]
+    dmg = st[JS_D]
+    wp = st[JS_WP]
+    sp = st[JS_SP]
+    sn = st[JS_SN] + kn * dun
+    t1 = st[JS_T1] + ks * dus1
+    t2 = st[JS_T2] + ks * dus2
+    ft = p[JP_FT] * (1.0 - dmg)
+    c = p[JP_C] * (1.0 - dmg)
     yielded = False
     if sn > ft:
-        js[s, JS_WP] += (sn - ft) / kn
+        wp += (sn - ft) / kn
         sn = ft
         yielded = True
-    tmax = c - sn * jp[s, JP_TANPHI]
+    tmax = c - sn * p[JP_TANPHI]
     if tmax < 0.0:
         tmax = 0.0
     tt = math.sqrt(t1 * t1 + t2 * t2)
     if tt > tmax:
-        js[s, JS_SP] += (tt - tmax) / ks
+        sp += (tt - tmax) / ks
         r = tmax / tt
         t1 *= r
         t2 *= r
         yielded = True
-    js[s, JS_SN] = sn
-    js[s, JS_T1] = t1
-    js[s, JS_T2] = t2
-    return yielded
+    return sn, t1, t2, wp, sp, yielded
 
 
 @njit(**_INLINE)
-def joint_coupled(s, jp, js, dun, dus1, dus2):
+def joint_coupled(p, st, dun, dus1, dus2):
     """Coupled fracture-energy softening (docs/formulation.md, 4.3):
     d_t = w_p / w_u, w_u = 2 G_I / f_t;  d_s = s_p / s_u, s_u = 2 G_II / c;
     D = 1 - (1 - d_t)(1 - d_s), never decreasing, at most 1.  Linear
     softening of f_t and c with a shared damage; friction angle unchanged;
     unloading elastic with the initial stiffness."""
-    if _coulomb_return(s, jp, js, dun, dus1, dus2):
-        wu = jp[s, JP_WU]
-        su = jp[s, JP_SU]
+    sn, t1, t2, wp, sp, yielded = _coulomb_return(p, st, dun, dus1, dus2)
+    d = st[JS_D]
+    if yielded:
+        wu = p[JP_WU]
+        su = p[JP_SU]
         dt_ = 1.0
         if wu > 0.0:
-            dt_ = min(js[s, JS_WP] / wu, 1.0)
-        elif js[s, JS_WP] == 0.0:
+            dt_ = min(wp / wu, 1.0)
+        elif wp == 0.0:
             dt_ = 0.0
         ds_ = 1.0
         if su > 0.0:
-            ds_ = min(js[s, JS_SP] / su, 1.0)
-        elif js[s, JS_SP] == 0.0:
+            ds_ = min(sp / su, 1.0)
+        elif sp == 0.0:
             ds_ = 0.0
-        d = 1.0 - (1.0 - dt_) * (1.0 - ds_)
-        if d > js[s, JS_D]:
-            js[s, JS_D] = d
+        dn = 1.0 - (1.0 - dt_) * (1.0 - ds_)
+        if dn > d:
+            d = dn
+    return sn, t1, t2, wp, sp, d
 
 
 @njit(**_INLINE)
-def joint_brittle_coulomb(s, jp, js, dun, dus1, dus2):
+def joint_brittle_coulomb(p, st, dun, dus1, dus2):
     """Brittle Coulomb with tension cut-off: at the first yield in tension
     or shear, f_t and c drop to zero (D = 1); friction remains."""
-    if _coulomb_return(s, jp, js, dun, dus1, dus2):
-        js[s, JS_D] = 1.0
+    sn, t1, t2, wp, sp, yielded = _coulomb_return(p, st, dun, dus1, dus2)
+    return sn, t1, t2, wp, sp, 1.0 if yielded else st[JS_D]
 
 
 @njit(**_INLINE)
-def joint_friction(s, jp, js, dun, dus1, dus2):
+def joint_friction(p, st, dun, dus1, dus2):
     """Dry contact: no tension, no cohesion, Coulomb friction, and a gap.
     The total normal displacement e = w_p + sigma_n / k_n (opening
     positive) is tracked: e > 0 is an open gap (w_p = e, sigma_n = 0, no
@@ -119,51 +123,61 @@ def joint_friction(s, jp, js, dun, dus1, dus2):
     opened must close its gap before it carries compression again (a
     rocking block lifts off and lands).  Shear: elastic trial
     tau += k_s du_s, |tau| <= -sigma_n tan(phi), excess slip into s_p."""
-    kn = jp[s, JP_KN]
-    e = js[s, JS_WP] + js[s, JS_SN] / kn + dun
+    kn = p[JP_KN]
+    e = st[JS_WP] + st[JS_SN] / kn + dun
     if e > 0.0:
-        js[s, JS_WP] = e
-        js[s, JS_SN] = 0.0
+        wp = e
+        sn = 0.0
     else:
-        js[s, JS_WP] = 0.0
-        js[s, JS_SN] = kn * e
-    ks = jp[s, JP_KS]
-    t1 = js[s, JS_T1] + ks * dus1
-    t2 = js[s, JS_T2] + ks * dus2
-    tmax = -js[s, JS_SN] * jp[s, JP_TANPHI]
+        wp = 0.0
+        sn = kn * e
+    ks = p[JP_KS]
+    sp = st[JS_SP]
+    t1 = st[JS_T1] + ks * dus1
+    t2 = st[JS_T2] + ks * dus2
+    tmax = -sn * p[JP_TANPHI]
     tt = math.sqrt(t1 * t1 + t2 * t2)
     if tt > tmax:
-        js[s, JS_SP] += (tt - tmax) / ks
+        sp += (tt - tmax) / ks
         r = tmax / tt if tt > 0.0 else 0.0
         t1 *= r
         t2 *= r
-    js[s, JS_T1] = t1
-    js[s, JS_T2] = t2
+    return sn, t1, t2, wp, sp, st[JS_D]
 
 
 _JOINT_LAWS = {JOINT_ELASTIC: joint_elastic, JOINT_BRITTLE_COULOMB: joint_brittle_coulomb, JOINT_COUPLED: joint_coupled,
                JOINT_FRICTION: joint_friction, JOINT_BEARING: joint_bearing}
 
 
-def joint_law(jlaw, s, jp, js, dun, dus1, dus2):
+def joint_law(jlaw, p, st, dun, dus1, dus2):
     """The law ``jlaw`` (a literal id, chosen when the caller compiles:
-    static.py) on sub-contact s."""
+    static.py) on one sub-contact's parameters and state."""
     raise TypeError("joint_law: only callable from compiled code")
 
 
 @overload(joint_law, prefer_literal=True, inline="always")
-def _joint_law(jlaw, s, jp, js, dun, dus1, dus2):
+def _joint_law(jlaw, p, st, dun, dus1, dus2):
     law = choose(_JOINT_LAWS, jlaw, "the joint law")
-    return lambda jlaw, s, jp, js, dun, dus1, dus2: law(s, jp, js, dun, dus1, dus2)
+    return lambda jlaw, p, st, dun, dus1, dus2: law(p, st, dun, dus1, dus2)
 
 
 @njit(**_INLINE)
 def subcontact_law(jlaw, s, dt, rx, ry, rz, nx, ny, nz, ax, ay, az, bx, by, bz, jp, js):
     """The law ``jlaw`` on sub-contact s, whose side B moves at (rx, ry, rz)
     against side A, in its local axes n (A to B), t1, t2: the displacement
-    increments du = dt (v_B - v_A) in local axes."""
-    joint_law(jlaw, s, jp, js, dt * (rx * nx + ry * ny + rz * nz), dt * (rx * ax + ry * ay + rz * az),
-              dt * (rx * bx + ry * by + rz * bz))
+    increments du = dt (v_B - v_A) in local axes.  Reads the sub-contact's
+    row of parameters and state, writes its new state (no branch here: the
+    law's branches are in a function of scalars)."""
+    p = (jp[s, 0], jp[s, 1], jp[s, 2], jp[s, 3], jp[s, 4], jp[s, 5], jp[s, 6])
+    st = (js[s, 0], js[s, 1], js[s, 2], js[s, 3], js[s, 4], js[s, 5])
+    sn, t1, t2, wp, sp, d = joint_law(jlaw, p, st, dt * (rx * nx + ry * ny + rz * nz),
+                                      dt * (rx * ax + ry * ay + rz * az), dt * (rx * bx + ry * by + rz * bz))
+    js[s, JS_SN] = sn
+    js[s, JS_T1] = t1
+    js[s, JS_T2] = t2
+    js[s, JS_WP] = wp
+    js[s, JS_SP] = sp
+    js[s, JS_D] = d
 
 
 @njit(**_INLINE)
@@ -184,22 +198,29 @@ def traction_force(s, js, area, nx, ny, nz, ax, ay, az, bx, by, bz):
 def _deformable_contacts(jlaw, dt, nodes, sc):
     """Deformable blocks: the sub-contact's point moves with the nodes of
     each side, interpolated with the weights w[s]; its force is spread with
-    the same weights (so the virtual work is consistent)."""
+    the same weights (so the virtual work is consistent).
+
+    Two passes: each sub-contact gathers its relative velocity (a fixed
+    4 + 4 slots, the unused ones of weight 0), runs the law and stores its
+    force; then each node gathers the forces of its sub-contacts
+    (``contacts.with_gather``), in sub-contact order.  The sums are those
+    of one loop that scatters each sub-contact's force to its nodes, bit
+    for bit, without its scattered writes (2.5 times faster)."""
     v = nodes.v
     f = nodes.f
-    cnt, w, ix, axes = sc.cnt, sc.w, sc.nodes, sc.axes
-    jp, js, area = sc.par, sc.state, sc.area
+    w, ix, axes = sc.w, sc.nodes, sc.axes
+    jp, js, area, force = sc.par, sc.state, sc.area, sc.force
     for s in range(area.shape[0]):
         rx = 0.0
         ry = 0.0
         rz = 0.0
-        for k in range(cnt[s, 0]):
+        for k in range(4):
             nd = ix[s, k]
             wk = w[s, k]
             rx -= wk * v[nd, 0]
             ry -= wk * v[nd, 1]
             rz -= wk * v[nd, 2]
-        for k in range(4, 4 + cnt[s, 1]):
+        for k in range(4, 8):
             nd = ix[s, k]
             wk = w[s, k]
             rx += wk * v[nd, 0]
@@ -210,18 +231,33 @@ def _deformable_contacts(jlaw, dt, nodes, sc):
         bx, by, bz = axes[s, 6], axes[s, 7], axes[s, 8]
         subcontact_law(jlaw, s, dt, rx, ry, rz, nx, ny, nz, ax, ay, az, bx, by, bz, jp, js)
         fx, fy, fz = traction_force(s, js, area, nx, ny, nz, ax, ay, az, bx, by, bz)
-        for k in range(cnt[s, 0]):
-            nd = ix[s, k]
-            wk = w[s, k]
-            f[nd, 0] += wk * fx
-            f[nd, 1] += wk * fy
-            f[nd, 2] += wk * fz
-        for k in range(4, 4 + cnt[s, 1]):
-            nd = ix[s, k]
-            wk = w[s, k]
-            f[nd, 0] -= wk * fx
-            f[nd, 1] -= wk * fy
-            f[nd, 2] -= wk * fz
+        force[s, 0] = fx
+        force[s, 1] = fy
+        force[s, 2] = fz
+    gather_forces(f, sc.gptr, sc.gs, sc.gw, force)
+
+
+@njit(**_INLINE)
+def gather_forces(f, gptr, gs, gw, force):
+    """f[i] += sum_j gw[j] force[gs[j]] over j in gptr[i]:gptr[i + 1], in
+    that order (``contacts.with_gather``)."""
+    for i in range(gptr.shape[0] - 1):
+        j0 = gptr[i]
+        j1 = gptr[i + 1]
+        if j0 == j1:
+            continue
+        fx = f[i, 0]
+        fy = f[i, 1]
+        fz = f[i, 2]
+        for j in range(j0, j1):
+            s = gs[j]
+            wj = gw[j]
+            fx += wj * force[s, 0]
+            fy += wj * force[s, 1]
+            fz += wj * force[s, 2]
+        f[i, 0] = fx
+        f[i, 1] = fy
+        f[i, 2] = fz
 
 
 @njit(**_INLINE)

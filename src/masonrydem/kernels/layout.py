@@ -106,9 +106,14 @@ class Contacts(NamedTuple):
     """Sub-contacts (joints, or the strips' bearings).  Sub-contact s joins
     side A and side B at one point: on deformable blocks interpolated from
     nodes[s, 0:cnt[s, 0]] (A) and nodes[s, 4:4 + cnt[s, 1]] (B) with the
-    weights w[s]; on rigid blocks bodies body[s] with body-frame levers
-    lever[s] from their reference points.  axes[s] = (n, t1, t2), n from A
-    to B."""
+    weights w[s] (unused slots: node 0, weight 0); on rigid blocks bodies
+    body[s] with body-frame levers lever[s] from their reference points.
+    axes[s] = (n, t1, t2), n from A to B.
+
+    Deformable blocks gather the sub-contacts' forces per node (CSR, in
+    sub-contact order): node i takes gw[j] force[gs[j]] for j in
+    gptr[i]:gptr[i + 1], gw the interpolation weight, negative on side B
+    (``contacts.with_gather``)."""
     nodes: np.ndarray   # (n, 8)
     cnt: np.ndarray     # (n, 2)
     w: np.ndarray       # (n, 8)
@@ -118,6 +123,10 @@ class Contacts(NamedTuple):
     area: np.ndarray    # (n,)
     par: np.ndarray     # (n, N_JP) law parameters
     state: np.ndarray   # (n, N_JS) tractions and law state
+    force: np.ndarray   # (n, 3) work space: each sub-contact's force on side A
+    gptr: np.ndarray    # (nodes + 1,) deformable blocks: the per-node gather (else (1,))
+    gs: np.ndarray      # sub-contacts ...
+    gw: np.ndarray      # ... and their signed weights
 
 
 class Bodies(NamedTuple):
@@ -161,7 +170,8 @@ class Controls(NamedTuple):
     alpha: float        # local damping
     lf: float           # load factor (applied forces)
     vf0: float          # velocity factor before the chunk ...
-    dvf: float          # ... and its increment per step (a ramp, capped at 1)
+    dvf: float          # ... its increment per step (a ramp) ...
+    vft: float          # ... up (or down) to this target
     gravity: np.ndarray  # (3,)
 
 

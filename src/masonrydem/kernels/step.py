@@ -25,28 +25,22 @@ _INLINE = dict(cache=True, inline="always", error_model="numpy")
 
 
 @njit(**_INLINE)
-def _advance_dof(i, d, fa, f, v, u, mass, fixed, vpres, vf, alpha, dt):
-    """One translational component of node (or body) i: total force
-    f[i, d] + fa (fa the applied part), then either its prescribed velocity
-    (the force is a reaction) or central differences with local damping.
-    Returns its contributions to (sum |F| free, sum |applied|, kinetic
-    energy, work rate)."""
-    ff = f[i, d] + fa
-    f[i, d] = ff
-    if fixed[i, d]:
-        vv = vf * vpres[i, d]
-        v[i, d] = vv
-        u[i, d] += dt * vv
-        return 0.0, abs(ff), 0.0, -ff * vv
-    vo = v[i, d]
+def _advance_dof(ff, fa, vo, m, fixed, vp, vf, alpha, dt):
+    """One translational component of a node (or body): its total force ff
+    (fa the applied part), velocity vo, mass m; either its prescribed
+    velocity vf vp (the force is a reaction) or central differences with
+    local damping.  Returns (its new velocity, its contributions to sum |F|
+    free, sum |applied|, kinetic energy, work rate).  (A function of
+    scalars: one that took the arrays and branched kept numba's reference
+    counting in the loop.)"""
+    if fixed:
+        vv = vf * vp
+        return vv, 0.0, abs(ff), 0.0, -ff * vv
     # local damping against the velocity, without a branch on its sign
     # (which is near random in a quasi-static run): sgn(0) = 0
     fd = ff - alpha * abs(ff) * ((vo > 0.0) - (vo < 0.0))
-    m = mass[i]
     vv = vo + dt * fd / m
-    v[i, d] = vv
-    u[i, d] += dt * vv
-    return abs(ff), abs(fa), 0.5 * m * vv * vv, fa * vv
+    return vv, abs(ff), abs(fa), 0.5 * m * vv * vv, fa * vv
 
 
 @njit(**_INLINE)
@@ -145,9 +139,9 @@ def run_chunk(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, j
     """Advances ``nsteps`` steps (module docstring).
 
     Constrained components take their prescribed velocity times the
-    velocity factor min(1, vf0 + (step + 1) dvf) (a linear ramp that starts
-    loading without an inertial shock); the force they carry is their
-    reaction.  The unbalanced-force ratio is sum |F| over free components
+    velocity factor vf0 + (step + 1) dvf, up (or down) to vft (a linear
+    ramp that starts loading, or changes its rate, without an inertial
+    shock); the force they carry is their reaction.  The unbalanced-force ratio is sum |F| over free components
     / sum of |applied| forces (external, gravity, and reactions of the
     constrained components).  ``work[0]`` accumulates the work done on the
     model (``work[1]``: its largest value so far): reactions times the
@@ -158,7 +152,8 @@ def run_chunk(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, j
     dt, alpha, lf, grav = ctl.dt, ctl.alpha, ctl.lf, ctl.gravity
     nn = u.shape[0]
     for step in range(nsteps):
-        vf = min(1.0, ctl.vf0 + (step + 1) * ctl.dvf)
+        vf = ctl.vf0 + (step + 1) * ctl.dvf
+        vf = min(vf, ctl.vft) if ctl.dvf >= 0.0 else max(vf, ctl.vft)
         f[:, :] = 0.0
         if rigid:
             bodies.fl[:, :] = 0.0
@@ -178,7 +173,11 @@ def run_chunk(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, j
                 load = bodies.fl[i, d] if rigid else lf * nodes.fext[i, d]
                 if gon:     # gravity only when the scene declares it (literal: compiled away otherwise)
                     load += nodes.mgrav[i] * grav[d]
-                a0, a1, a2, a3 = _advance_dof(i, d, load, f, v, u, mass, fixed, vpres, vf, alpha, dt)
+                ff = f[i, d] + load
+                f[i, d] = ff
+                vv, a0, a1, a2, a3 = _advance_dof(ff, load, v[i, d], mass[i], fixed[i, d], vpres[i, d], vf, alpha, dt)
+                v[i, d] = vv
+                u[i, d] += dt * vv
                 unbal += a0
                 applied += a1
                 ke += a2
