@@ -1,80 +1,59 @@
-"""Wall time of the study's simulations, from Snakemake's own logs.
+"""The study from empty in one sitting, timed (issue 23).
 
-    python benchmarks/study_time.py .snakemake/log/<the study's sittings>.snakemake.log
+    .venv/bin/python benchmarks/study_time.py [--cores 2]
 
-For every finished `simulate` job in the logs: its time in Snakemake (from
-the job's start line to its "Finished" line, one-second resolution) and the
-run's own wall time inside the solver (wall_time_s of its result row).  The
-difference is the per-job start-up overhead (scheduling, interpreter,
-imports, reading the scene and samples, writing the outputs).
+Removes the study's per-run files (results/study/runs: every simulation
+reruns), runs `snakemake --cores N study` (samples, the simulations,
+collection, statistics, figures, pictures) and writes
+results/study/timing.csv, one row:
 
-Prints per log the span of the Snakemake run and the jobs it finished, then
-the totals: jobs, summed Snakemake wall time of the logs, mean job time,
-mean overhead.  Only jobs whose result file is still the one they wrote
-count (its modification time lies within the job).  A study run in
-several sittings (Snakemake resumes only the missing jobs) is timed by the
-sum of its logs' spans; give only logs of study runs (a log of other rules
-would add their time to the span).
+  wall_s           wall clock of the sitting, Snakemake's start to its exit
+  runs             simulations in results/study/runs.parquet
+  cores            the cores given to Snakemake
+  mean_run_s       mean wall time of a run inside the solver (its row's
+                   wall_time_s: building the model, loading the kernels, the steps)
+  mean_startup_s   mean start-up of a simulation job, from the interpreter's
+                   start to the first step's set-up (its row's startup_s:
+                   imports and reading the inputs)
+  mean_steps       mean time steps of a run
+  solver_version   the rows' solver version (one for all)
+
+Run it on an otherwise idle machine: the figure is the study's cost.
 """
-import os
-import re
+import argparse
+import datetime
+import shutil
+import subprocess
 import sys
-from datetime import datetime, timedelta
+import time
+from pathlib import Path
 
 import pandas as pd
 
-STAMP = re.compile(r"^\[(\w{3} \w{3} +\d+ \d\d:\d\d:\d\d \d{4})\]$")
-OUTPUT = re.compile(r"^\s+output: (\S+\.parquet),")
-JOBID = re.compile(r"^\s+jobid: (\d+)$")
-ONE_S = timedelta(seconds=1)
-FINISHED = re.compile(r"^Finished jobid: (\d+) \(Rule: simulate\)$")
+ROOT = Path(__file__).resolve().parent.parent
 
 
-def parse(path):
-    """(first stamp, last stamp, {jobid: (start, end, result file)}) of one log."""
-    stamp = first = None
-    started, jobs, rule, out = {}, {}, None, None
-    for line in open(path):
-        line = line.rstrip("\n")
-        if m := STAMP.match(line):
-            stamp = datetime.strptime(" ".join(m.group(1).split()), "%a %b %d %H:%M:%S %Y")
-            first = first or stamp
-        elif line.endswith("rule simulate:"):
-            rule, out = "simulate", None
-        elif rule and (m := OUTPUT.match(line)):
-            out = m.group(1)
-        elif rule and (m := JOBID.match(line)):
-            started[int(m.group(1))] = (stamp, out)
-            rule = None
-        elif m := FINISHED.match(line):
-            t0, out = started[int(m.group(1))]
-            jobs[int(m.group(1))] = (t0, stamp, out)
-    return first, stamp, jobs
-
-
-def main(paths):
-    rows, span = [], 0.0
-    for path in paths:
-        first, last, jobs = parse(path)
-        if not jobs:
-            continue
-        span += (last - first).total_seconds()
-        print(f"{path}: {first} to {last}, {len(jobs)} simulations finished")
-        for t0, t1, out in jobs.values():
-            if not os.path.exists(out) or not t0 <= datetime.fromtimestamp(os.path.getmtime(out)) <= t1 + ONE_S:
-                continue      # gone, or rerun since (a later log counts it)
-            wall = pd.read_parquet(out, columns=["wall_time_s"])["wall_time_s"].iloc[0]
-            rows.append(((t1 - t0).total_seconds(), wall))
-    if not rows:
-        sys.exit("no finished simulate jobs in the logs")
-    d = pd.DataFrame(rows, columns=["job_s", "run_s"])
-    print(f"simulations: {len(d)}; Snakemake wall time of the logs: {span / 3600:.2f} h "
-          f"({span / len(d):.1f} s per simulation on the cores given)")
-    print(f"mean job time {d.job_s.mean():.1f} s, mean run time {d.run_s.mean():.1f} s, "
-          f"per-job overhead {(d.job_s - d.run_s).mean():.2f} s")
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--cores", type=int, default=2)
+    args = ap.parse_args()
+    runs_dir = ROOT / "results" / "study" / "runs"
+    if runs_dir.exists():
+        shutil.rmtree(runs_dir)
+    snakemake = Path(sys.executable).with_name("snakemake")
+    t0 = time.perf_counter()
+    subprocess.run([str(snakemake), "--cores", str(args.cores), "study"], cwd=ROOT, check=True)
+    wall = time.perf_counter() - t0
+    runs = pd.read_parquet(ROOT / "results" / "study" / "runs.parquet")
+    versions = runs["solver_version"].dropna().unique()
+    row = dict(wall_s=round(wall, 1), runs=len(runs), cores=args.cores,
+               mean_run_s=round(float(runs["wall_time_s"].mean()), 3),
+               mean_startup_s=round(float(runs["startup_s"].mean()), 3),
+               mean_steps=round(float(runs["steps"].mean()), 1),
+               solver_version=",".join(versions), date=datetime.date.today().isoformat())
+    pd.DataFrame([row]).to_csv(ROOT / "results" / "study" / "timing.csv", index=False)
+    print(pd.DataFrame([row]).to_string(index=False))
 
 
 if __name__ == "__main__":
-    if len(sys.argv) < 2:
-        sys.exit(__doc__)
-    main(sys.argv[1:])
+    main()

@@ -198,28 +198,6 @@ def test_refused_strip_leaves_nothing_behind():
     assert m.build().bearings.area.size == 0 and m.strips == []
 
 
-def test_rate_change_is_a_ramp():
-    """Solver.set_rate(F, N) takes the prescribed velocities from factor 1
-    to F linearly over N steps: a node prescribed v moves by
-    v sum_k (1 + (F - 1) min(1, k/N)) after T >= N steps (exact up to
-    roundoff); back to 1 alike."""
-    m = _dynamic_block()
-    top = m.select(lambda x: x[:, 2] > 0.1 - 1e-9)
-    m.fix(top, dofs=[2], velocity=1e-6)
-    s = Solver(m, chunk=100)
-    F, N, T = 3.0, 300, 1000
-    s.set_rate(F, N)
-    s.cycle(T)
-    k = np.arange(1, T + 1)
-    assert s.velocity_factor == F
-    assert s.u[top, 2] == pytest.approx(1e-6 * np.sum(1 + (F - 1) * np.minimum(1, k / N)), rel=1e-12)
-    s.set_rate(1.0, N)
-    s.cycle(T)
-    assert s.velocity_factor == 1.0
-    assert s.u[top, 2] == pytest.approx(1e-6 * (np.sum(1 + (F - 1) * np.minimum(1, k / N))
-                                                + np.sum(F - (F - 1) * np.minimum(1, k / N))), rel=1e-12)
-
-
 def test_joint_forces_gathered_per_node_add_what_a_scatter_adds():
     """Each node gathers the forces of its sub-contacts (contacts.with_gather)
     in sub-contact order: the sums are those of a loop that scatters each

@@ -116,17 +116,17 @@ def test_specimens_and_study_pictures():
 
 
 def test_the_projects_config_plans_its_accuracy_study():
-    """config/config.yaml: per case the 6 path levels, 13 candidates, the
-    defaults and 8 one-at-a-time values (plus ratio_tol under
-    precompression): 28 + 29 + 28 + 29 + 29 = 143 runs; the brick cases' path
-    levels run the elasto-plastic model at half the study's rate (their
-    path_overrides), the joint cases' at the study's rate (the scene's)."""
+    """config/config.yaml: per case the 6 path levels, 12 candidates, the
+    defaults and 9 one-at-a-time values (plus two ratio_tol values under
+    precompression): 28 + 30 + 28 + 30 + 30 = 146 runs; the path levels run
+    the elasto-plastic model at the paths' rate (2.5e-8 m per step, their
+    overrides), the brick cases' at half of it (their path_overrides)."""
     from masonrydem.scene import load_scene
     config = yaml.safe_load(open("config/config.yaml"))
     runs = plan.accuracy_runs(config)
-    assert len(runs) == 143 and len(set(runs)) == 143
-    assert {s for c, s in runs if c == "joint_sv0"} >= {"path_c17x8x6", "pc_c4x4x3_r2", "default", "rate_5e-08"}
-    assert ("joint_sv05", "ratio_tol_1e-06") in runs and ("joint_sv0", "ratio_tol_1e-06") not in runs
+    assert len(runs) == 146 and len(set(runs)) == 146
+    assert {s for c, s in runs if c == "joint_sv0"} >= {"path_c17x8x6", "pc_c6x3x2_r121", "default", "rate_7.5e-08"}
+    assert ("joint_sv05", "ratio_tol_1e-05") in runs and ("joint_sv0", "ratio_tol_1e-05") not in runs
     joint = load_scene(config["scene"], plan.accuracy_overrides(config, "joint_sv0", "path_c17x8x6"))
     assert joint["loading"]["bending"]["rate"] == 2.5e-8 and joint["physics"]["blocks"] == "elasto-plastic"
     o = plan.accuracy_overrides(config, "brick_sv0", "path_c17x8x6")

@@ -163,12 +163,12 @@ def test_a_peak_counts_only_when_the_load_itself_is_balanced():
     g0, g1 = K.h_force(0), K.h_force(1)
     hist = np.zeros((3, K.h_width(2)))
     hist[:, K.H_STEP] = [1, 2, 3]
-    hist[:, K.H_RATIO] = 0.01
+    hist[:, K.H_RATIO] = 0.5 * PEAK_UNBALANCE
     hist[:, g0] = [10.0, 13.0, 9.0]
     hist[:, g1] = [-10.0 * (1 - 0.5 * PEAK_UNBALANCE), -13.0 * 0.7, -9.0]
-    s._record(hist, np.ones(3))
+    s._record(hist, np.ones(3, bool))
     assert s.history.peak[0][0] == 10.0 and s.history.peak[0][4] == pytest.approx(0.5 * PEAK_UNBALANCE)
     s._balance = {}                                   # judged by the model's ratio, the ringing load would count
     s.history.peak = {}
-    s._record(hist, np.ones(3))
+    s._record(hist, np.ones(3, bool))
     assert s.history.peak[0][0] == 13.0

@@ -52,7 +52,7 @@ def _largest_eigenvalue(m):
         s.u[:] = 0.0
         s.v[:] = w
         s.cycle(1)
-        y = np.where(free, -s.f / (s.dt * s.mass[:, None]), 0.0)
+        y = np.where(free, -s.f / (s.dt * s.mass), 0.0)
         lam = np.linalg.norm(y) / np.linalg.norm(w)
         w = y / np.linalg.norm(y)
     return lam
@@ -86,6 +86,41 @@ def test_critical_step_counts_the_damping():
         Solver(m, mode="dynamic", damping=0.8, dt=1.01 * Solver(m, mode="dynamic", damping=0.8).dt_crit)
 
 
+def test_scaled_masses_per_component_keep_the_step_stable():
+    """Quasi-static density scaling gives each component of a node its own
+    mass from the absolute row sum of its row of K (stability.py): by
+    Gershgorin, lambda_max(M^-1 K) <= 4 s^2 / (1 + alpha), so dt = 1 is s
+    times the critical step with damping.  Checked by power iteration
+    (K applied through the solver's own forces, state reset each time) on
+    three stacked blocks (zones, a hex8i cell block, zones) joined by
+    elastic joints of different stiffness through flat cells; the bound
+    must hold and be reasonably tight (above 0.3 of it), and the masses
+    must differ between components (the flat cells are stiffer across)."""
+    from masonrydem import JointProps
+    m = Model()
+    m.add_box([0, 0, 0], [0.2, 0.1, 0.05], (2, 1, 3), Elastic(10e9, 0.2))
+    m.add_box([0, 0, 0.05], [0.2, 0.1, 0.1], (2, 2, 3), Elastic(20e9, 0.2), element="hex8i")
+    m.add_box([0, 0, 0.1], [0.2, 0.1, 0.15], (1, 2, 2), Elastic(10e9, 0.2))
+    m.set_joints("elastic", JointProps(kn=2e11, ks=5e10))
+    m.fix(m.select(lambda x: x[:, 2] < 1e-9))
+    s = Solver(m, damping=0.8, safety=0.9)
+    free = s.fixed == 0
+    w = np.where(free, np.random.default_rng(0).standard_normal(s.v.shape), 0.0)
+    lam = 0.0
+    for _ in range(2000):
+        s.stress[:] = 0.0
+        s.js[:] = 0.0
+        s.u[:] = w
+        s.v[:] = w
+        s.cycle(1)
+        y = np.where(free, -s.f / (s.dt * s.mass), 0.0)
+        lam = np.linalg.norm(y) / np.linalg.norm(w)
+        w = y / np.linalg.norm(y)
+    bound = 4 * 0.9 ** 2 / 1.8
+    assert 0.3 * bound < lam <= bound
+    assert np.max(s.mass[free.all(axis=1)].max(axis=1) / s.mass[free.all(axis=1)].min(axis=1)) > 1.5
+
+
 def _strain_energy(s):
     """Sum over zones of w V (s:s / (4 G) + p^2 / (2 K)) (elastic)."""
     st, z = s.stress, s.zones
@@ -108,7 +143,7 @@ def test_undamped_vibration_conserves_energy():
         s.run(99)
         before = s.v.copy()
         s.run(1)
-        energy.append(0.5 * np.sum((s.mass[:, None] * before * s.v)[free]) + _strain_energy(s))
+        energy.append(0.5 * np.sum((s.mass * before * s.v)[free]) + _strain_energy(s))
     energy = np.array(energy)
     assert s.step == 10_000 and energy[0] > 0
     assert np.abs(energy / energy[0] - 1.0).max() < 1e-9
@@ -120,7 +155,7 @@ def test_damping_dissipates_kinetic_energy():
     grows, and after 10,000 steps it is below 1e-12 of the initial."""
     s = Solver(_column(), mode="dynamic", damping=0.8, safety=0.9, record_every=1)
     _kick(s)
-    ke0 = 0.5 * np.sum(s.mass[:, None] * s.v ** 2)
+    ke0 = 0.5 * np.sum(s.mass * s.v ** 2)
     assert s.run(10_000).status == "max_steps"
     ke = s.history.array()[:, 2]
     windows = ke[: ke.size // 1000 * 1000].reshape(-1, 1000).max(axis=1)
@@ -247,15 +282,25 @@ def test_smaller_fracture_energy_never_carries_more(runs):
 
 def test_precompression_raises_the_peak(runs):
     """More precompression, more capacity, until the units govern: P_max
-    grows from 0 to 0.5 MPa, where the wallette fails through its units, and
-    from there on never falls.  A unit cracks through on a vertical plane,
-    which the vertical precompression does not load, so at 0.5, 1 and 2 MPa
-    the peak is the same up to the sampling of the load history (at the
-    defaults 17.79615, 17.79613 and 17.80401 kN): 'never falls' allows
-    1e-5 of it."""
+    grows from 0 to 0.5 MPa, where the wallette fails through its units.
+    A unit cracks through on a vertical plane, which the vertical
+    precompression loads only through the lateral (Poisson) mismatch of
+    units and joints: from 0.5 to 1 and 2 MPa the peak may fall by no more
+    than the share of f_tu that the precompression of 2 MPa leaves on the
+    crack planes as tension (measured here: at the defaults about 2.6 %,
+    the peaks falling by 0.3 %)."""
+    from masonrydem import Solver
+    from masonrydem.specimen import build
     P = [runs[n][0]["P_max_kN"] for n in ("reference", "sv_0.5", "sv_1", "sv_2")]
     assert P[1] > 1.1 * P[0] and runs["sv_0.5"][0]["failure_mode"] == "brick"
-    assert all(b >= a * (1.0 - 1e-5) for a, b in zip(P[1:], P[2:])), P
+    sp = build(load_scene(WILLIS, ["loading.precompression.pressure=2.0e6"]))
+    s = Solver(sp.model)
+    assert s.run(200_000, ratio_tol=sp.scene["loading"]["precompression"]["ratio_tol"]).status == "converged"
+    crack = np.concatenate([np.arange(c.sc.start, c.sc.stop) for c, j in zip(sp.model.contacts, sp.contact_joint)
+                            if sp.joints[j][0] == "crack"])
+    share = s.js[crack, K.JS_SN].max() / sp.scene["materials"]["units"]["ft"]
+    assert 0.0 < share < 0.05
+    assert all(b >= a * (1.0 - share) for a, b in zip(P[1:], P[2:])), (P, share)
 
 
 @pytest.mark.parametrize("name", HALF_RATE)

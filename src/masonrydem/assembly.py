@@ -38,7 +38,7 @@ class Assembly:
     joint_points: np.ndarray      # (n, 3) position of each joint sub-contact
     bearing_points: np.ndarray
     contacts: list                # contacts.Contact, one per joint
-    stiffness: np.ndarray         # (n,) bound of each node's (body's translational) stiffness
+    stiffness: np.ndarray         # (n, 3) bound of each node's (body's translational) stiffness, per component
     rot_stiffness: np.ndarray     # (n,) rigid: bound of each body's rotational stiffness
     inertia: np.ndarray           # (n, 3) rigid: principal moments of inertia
     h_min: float                  # smallest zone, cell or body size (the divergence guard)
@@ -72,7 +72,7 @@ def _common(model, x0):
     nb, nn = model.n_nodes, x0.shape[0]
     contacts, sc = [], SubContacts()
     if model.joint_law is not None:
-        contacts, sc = find_joints(model.blocks, model.joint_law, model.joint_props, model.subcontact_refine)
+        contacts, sc = find_joints(model.blocks, model.joint_law, model.joint_props, model.joint_refine)
     joints, joint_points = sc.pack()
     bearings, bearing_points = model.strip_subcontacts.pack()
     strip_side = bearings.nodes[:, 4]
@@ -105,7 +105,7 @@ def _common(model, x0):
 
 def _nodes(x0, mphys, fixed, vpres, fext):
     nn = x0.shape[0]
-    return K.Nodes(x0=x0, u=np.zeros((nn, 3)), v=np.zeros((nn, 3)), f=np.zeros((nn, 3)), mass=np.ones(nn),
+    return K.Nodes(x0=x0, u=np.zeros((nn, 3)), v=np.zeros((nn, 3)), f=np.zeros((nn, 3)), mass=np.ones((nn, 3)),
                    mgrav=mphys, fixed=fixed, vpres=vpres, fext=fext)
 
 
@@ -124,7 +124,7 @@ def _deformable(model, x0, jlaw, joints, bearings, joint_points, bearing_points,
     for nd, f in model.forces.items():
         fext[nd] += f
     mphys = np.zeros(nn)
-    stiff = np.zeros(nn)
+    stiff = np.zeros((nn, 3))
     if zb:
         rho = np.concatenate([np.full(b.mesh.tets.shape[0], b.material.density) for b in zb])
         np.add.at(mphys, zones.tets.ravel(), np.repeat(rho * zones.vol * zones.wt / 4.0, 4))
@@ -243,6 +243,7 @@ def _rigid(model, x0, jlaw, joints, bearings, joint_points, bearing_points, cont
         rigid=True, large=bool(model.large), zlaw=K.ZONE_NONE, jlaw=jlaw,
         nodes=_nodes(x0, mphys, fixed, vpres, np.zeros((nn, 3))), zones=K.empty_zones(), cells=K.empty_cells(),
         joints=joints, bearings=bearings, bodies=bodies, monitors=monitors, joint_points=joint_points,
-        bearing_points=bearing_points, contacts=contacts, stiffness=kt, rot_stiffness=kr, inertia=inertia,
+        bearing_points=bearing_points, contacts=contacts,
+        stiffness=np.repeat(kt[:, None], 3, axis=1), rot_stiffness=kr, inertia=inertia,
         h_min=float(np.min(rlen)),
         block_of_node=np.concatenate([np.arange(nb), np.full(len(model.strips), -1)]))

@@ -57,22 +57,38 @@ class Block:
         """Bilinear interpolation on the face grid at (P, Q): (nodes, weights)
         with zero weights dropped; a rigid block's point moves with its one
         node (and its rotation: the lever is the point's offset)."""
+        nodes, weights, count = self.interpolate_points(axis, side, np.array([P]), np.array([Q]))
+        return nodes[0, :count[0]].tolist(), weights[0, :count[0]].tolist()
+
+    def interpolate_points(self, axis, side, P, Q):
+        """``interpolate`` at the points (P[i], Q[i]): (nodes (n, 4), weights
+        (n, 4), count (n,)), each row's nodes and weights first, unused
+        slots node 0 and weight 0."""
+        n = P.size
+        nodes = np.zeros((n, 4), np.int64)
+        weights = np.zeros((n, 4))
         if self.rigid:
-            return [self.node0], [1.0]
+            nodes[:, 0] = self.node0
+            weights[:, 0] = 1.0
+            return nodes, weights, np.ones(n, np.int64)
         gp, gq = self.face_grid(axis)
-        ip = int(np.clip(np.searchsorted(gp, P) - 1, 0, gp.size - 2))
-        iq = int(np.clip(np.searchsorted(gq, Q) - 1, 0, gq.size - 2))
-        xi = float(np.clip((P - gp[ip]) / (gp[ip + 1] - gp[ip]), 0.0, 1.0))
-        eta = float(np.clip((Q - gq[iq]) / (gq[iq + 1] - gq[iq]), 0.0, 1.0))
-        cand = [((ip, iq), (1 - xi) * (1 - eta)), ((ip + 1, iq), xi * (1 - eta)),
-                ((ip, iq + 1), (1 - xi) * eta), ((ip + 1, iq + 1), xi * eta)]
-        nodes, weights = [], []
-        for (a, b), wgt in cand:
-            if wgt > 1e-12:
-                nodes.append(self.face_node(axis, side, a, b))
-                weights.append(wgt)
-        s = sum(weights)
-        return nodes, [wgt / s for wgt in weights]
+        ip = np.clip(np.searchsorted(gp, P) - 1, 0, gp.size - 2)
+        iq = np.clip(np.searchsorted(gq, Q) - 1, 0, gq.size - 2)
+        xi = np.clip((P - gp[ip]) / (gp[ip + 1] - gp[ip]), 0.0, 1.0)
+        eta = np.clip((Q - gq[iq]) / (gq[iq + 1] - gq[iq]), 0.0, 1.0)
+        cand = [(ip, iq, (1 - xi) * (1 - eta)), (ip + 1, iq, xi * (1 - eta)),
+                (ip, iq + 1, (1 - xi) * eta), (ip + 1, iq + 1, xi * eta)]
+        count = np.zeros(n, np.int64)
+        total = np.zeros(n)
+        rows = np.arange(n)
+        for a, b, wgt in cand:          # in this order, the weights above 1e-12
+            keep = wgt > 1e-12
+            nodes[rows[keep], count[keep]] = self.face_node(axis, side, a[keep], b[keep])
+            weights[rows[keep], count[keep]] = wgt[keep]
+            total = total + np.where(keep, wgt, 0.0)
+            count += keep
+        weights /= total[:, None]
+        return nodes, weights, count
 
     def nodes_in_rect(self, axis, rect):
         gp, gq = self.face_grid(axis)

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import kernels as K
-from .blocks import GEOM_TOL, face_point, face_quadrature, face_refine, local_axes
+from .blocks import GEOM_TOL, face_point, face_quadrature, face_refine, local_axes, refine_axes
 from .errors import InputError
 from .laws import JointProps
 
@@ -106,7 +106,8 @@ def find_joints(blocks, law, props, refine):
     fields of both faces (blocks.face_quadrature on the union of their
     grids), each interpolated on both faces.  ``props``: a JointProps, or a
     function (block_a, block_b) -> JointProps; ``refine``: per global axis
-    (x, y, z), each interval of the rule split that many times along it."""
+    (x, y, z), each interval of the rule split that many times along it (or
+    a function (block_a, block_b) -> that refinement)."""
     boxes = [b for b in blocks if b.is_box]
     contacts, sc = [], SubContacts()
     for i, b1 in enumerate(boxes):
@@ -131,6 +132,7 @@ def _joint(cid, sc, lower, upper, axis, rect, law, props, refine):
     else:
         a, b, side_a, side_b, sign = lower, upper, 1, 0, 1.0
     props = props(a, b) if callable(props) else props
+    refine = refine_axes(refine(a, b) if callable(refine) else refine, f"joints[{cid}].refine")
     if not isinstance(props, JointProps):
         raise InputError("joints.props", f"expected JointProps, got {type(props).__name__}")
     props.validate(f"joints[{cid}] (blocks {a.id}-{b.id})", law)
@@ -138,10 +140,11 @@ def _joint(cid, sc, lower, upper, axis, rect, law, props, refine):
     axes = local_axes(axis, sign)
     start = len(sc)
     P, Q, A = face_quadrature(rect, zip(a.face_grid(axis), b.face_grid(axis)), face_refine(refine, axis))
-    for pp, qq, ar in zip(P, Q, A):
-        na, wa = a.interpolate(axis, side_a, pp, qq)
-        nb, wb = b.interpolate(axis, side_b, pp, qq)
-        sc.add(na, wa, nb, wb, axes, ar, row, face_point(axis, lower.hi[axis], pp, qq))
+    na, wa, ca = a.interpolate_points(axis, side_a, P, Q)
+    nb, wb, cb = b.interpolate_points(axis, side_b, P, Q)
+    for i, (pp, qq, ar) in enumerate(zip(P, Q, A)):
+        sc.add(na[i, :ca[i]], wa[i, :ca[i]], nb[i, :cb[i]], wb[i, :cb[i]], axes, ar, row,
+               face_point(axis, lower.hi[axis], pp, qq))
     return Contact(cid, a.id, b.id, axis, axes[:3].copy(), float(A.sum()), slice(start, len(sc)), props)
 
 

@@ -44,7 +44,8 @@ class Model:
         self._x0 = []
         self.joint_law = None
         self.joint_props = None
-        self.subcontact_refine = (1, 1, 1)
+        self.joint_refine = (1, 1, 1)
+        self.strip_refine = (1, 1, 1)
         self.strips = []
         self.strip_subcontacts = SubContacts()
         self.fixities = {}           # node -> {dof: velocity}
@@ -111,18 +112,22 @@ class Model:
         return np.flatnonzero(predicate(self.x0))
 
     # --- joints ---------------------------------------------------------
-    def set_joints(self, law, props, refine=1):
+    def set_joints(self, law, props, refine=1, strip_refine=None):
         """Joint law (by name, laws.JOINT_LAWS) and properties: a JointProps
         for all joints, or a function (block_a, block_b) -> JointProps.
         ``refine``: each interval of the union of both faces' cell grids is
         split that many times (one integer, or one per global axis x, y, z),
         and the sub-contacts sit at the points of the composite Simpson rule
-        on it (blocks.face_quadrature); strips follow the same refinement."""
+        on it (blocks.face_quadrature); or a function (block_a, block_b) ->
+        such a refinement.  Strips added afterwards take ``strip_refine``
+        (default: ``refine`` unless it is a function, else 1)."""
         joint_law(law)
-        refine = refine_axes(refine, "joints.refine")
+        if strip_refine is None:
+            strip_refine = 1 if callable(refine) else refine
         self.joint_law = law
         self.joint_props = props
-        self.subcontact_refine = refine
+        self.joint_refine = refine if callable(refine) else refine_axes(refine, "joints.refine")
+        self.strip_refine = refine_axes(strip_refine, "strips.refine")
         self._built = None
 
     @property
@@ -149,7 +154,7 @@ class Model:
         for b, side, r in faces_on_plane(self.blocks, axis, coord, normal, rect):
             points += [(b.interpolate(axis, side, pp, qq), ar, face_point(axis, coord, pp, qq))
                        for pp, qq, ar in zip(*face_quadrature(r, zip(b.face_grid(axis)),
-                                                                face_refine(self.subcontact_refine, axis)))]
+                                                                face_refine(self.strip_refine, axis)))]
         if not points:
             raise InputError(f"{where}.rect", "the strip touches no block face")
         sc = self.strip_subcontacts

@@ -19,7 +19,7 @@ from . import __version__, source_hash
 from . import kernels as K
 from .classify import classify
 from .errors import InputError
-from .solver import PEAK_UNBALANCE, Solver, Speedup
+from .solver import PEAK_UNBALANCE, Solver
 from .specimen import build, strength
 
 GOOD = ("load_drop", "displacement_limit")
@@ -64,8 +64,10 @@ def scene_inputs(scene):
 
 
 def refine_label(refine):
-    """A sub-contact refinement as the rows record it: '2', or '1x2x1' per
-    axis (as cells)."""
+    """A sub-contact refinement as the rows record it: '2', '1x2x1' per axis
+    (as cells), or per kind of contact 'head:1x2x1,bed:1'."""
+    if isinstance(refine, dict):
+        return ",".join(f"{k}:{refine_label(v)}" for k, v in refine.items())
     return "x".join(str(r) for r in refine) if isinstance(refine, (list, tuple)) else str(refine)
 
 
@@ -130,9 +132,8 @@ def simulate(scene, progress=True):
     stage = specimen.stage
     if loaded:
         s.vpres[specimen.drive] = specimen.velocity
-        speedup = Speedup(stage["post_peak_rate"], DROP_WINDOW) if stage["post_peak_rate"] > 1 else None
         res = s.run(stage["max_steps"], disp_limit=u0 + stage["max_displacement"], load_drop=stage["load_drop"],
-                    monitor="load", balance="support", ramp_steps=stage["ramp_steps"], speedup=speedup,
+                    monitor="load", balance="support", ramp_steps=stage["ramp_steps"],
                     progress=Progress(specimen.test, u0) if progress else None)
     H = s.history.array()
     H = H[H[:, K.H_STEP] > start]         # the loading stage

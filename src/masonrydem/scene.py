@@ -199,7 +199,8 @@ def model_size(scene):
     g, num = scene["geometry"], scene["numerics"]
     model = BLOCK_MODELS[scene["physics"]["blocks"]]
     units = g["courses"] * g["units_per_course"]
-    rx, ry, rz = refine_axes(num["subcontact_refine"])
+    from .specimen import refine_by_kind
+    r = {k: refine_axes(v) for k, v in refine_by_kind(num["subcontact_refine"]).items()}
     pieces = 2 if model.crack_interface else 1
     a, b, c = max(num["cells"][0], pieces), num["cells"][1], num["cells"][2]
 
@@ -214,8 +215,12 @@ def model_size(scene):
     # few cells wide
     shift = g["bond_offset"] * a
     along = a if abs(shift - round(shift)) < 1e-9 else 2 * a
-    subs = (units * (pieces * simpson(b, ry, c, rz) + simpson(along, rx, b, ry))
-            + strips * simpson(g["courses"] * c, rz, 3, rx))
+    # faces normal to x: (y, z); to z: (x, y); the strips' (normal to y): (z, x)
+    face = {k: {0: (v[1], v[2]), 2: (v[0], v[1]), 1: (v[2], v[0])} for k, v in r.items()}
+    subs = (units * (simpson(b, face["head"][0][0], c, face["head"][0][1])
+                     + (pieces - 1) * simpson(b, face["crack"][0][0], c, face["crack"][0][1])
+                     + simpson(along, face["bed"][2][0], b, face["bed"][2][1]))
+            + strips * simpson(g["courses"] * c, face["strips"][1][0], 3, face["strips"][1][1]))
     hexes = 0 if model.rigid else units * a * b * c
     zones = model.material is not Elastic or num["elastic_element"] == "zones"
     size = dict(nodes=strips + units * (pieces if model.rigid else (a + pieces) * (b + 1) * (c + 1)),

@@ -120,7 +120,9 @@ def build(scene):
         return JointProps(kn=kn, ks=mj["ks_ratio"] * kn, ft=ft, c=mj["c_ratio"] * ft, phi=phi_j[j],
                           GI=GI, GII=mj["GII_ratio"] * GI)
 
-    m.set_joints(phys["joints"], props, refine=scene["numerics"]["subcontact_refine"])
+    kind_refine = refine_by_kind(scene["numerics"]["subcontact_refine"])
+    m.set_joints(phys["joints"], props, refine=lambda a, b: kind_refine[joints[joint_of(a, b)][0]],
+                 strip_refine=kind_refine["strips"])
     test = scene["loading"]["test"]
     Htot = nk * H
     first = {units[block_unit[blk.id]]: blk for blk in m.blocks[::-1]}    # a unit's (left) first block
@@ -161,6 +163,18 @@ def build(scene):
         raise InputError("geometry", f"joints {missing} touch no unit pair; check the bond")
     return Specimen(m, scene, units, block_unit, joints, contact_joint, drive, velocity, supports, E_b, f_tu, f_tj,
                     phi_j)
+
+
+REFINE_KINDS = ("head", "bed", "crack", "strips")
+
+
+def refine_by_kind(refine):
+    """numerics.subcontact_refine per kind of contact (REFINE_KINDS), each
+    one integer or one per axis: the scene's one value for all kinds, or
+    its mapping (1 for a kind it does not name)."""
+    if isinstance(refine, dict):
+        return {k: refine.get(k, 1) for k in REFINE_KINDS}
+    return dict.fromkeys(REFINE_KINDS, refine)
 
 
 def _pieces(x0, L, plane, n):

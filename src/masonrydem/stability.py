@@ -2,6 +2,15 @@
 stiffness (zones, sub-contacts, rigid bodies), the masses that make a
 step stable, and the critical step.
 
+Each component of a node (x, y, z) has its own bound, the absolute row
+sum of its row of the stiffness matrix (summed over the elements at the
+node), and so its own scaled mass: Gershgorin's theorem bounds the
+eigenvalues of M^-1 K by the largest row sum of |K| / m row by row, so a
+per-component mass is as stable as one per node, and lighter in a node's
+softer directions (Underwood's dynamic relaxation scales each degree of
+freedom so).  Rigid bodies keep one isotropic bound (their rows turn with
+them).
+
 The critical step counts the damping: local damping multiplies a force
 that opposes the velocity by (1 + alpha), and in the highest mode (the
 displacements alternate in sign every step) every force opposes the
@@ -24,8 +33,8 @@ DYNAMIC = "dynamic"
 
 
 def zone_stiffness(stiff, tets, dn, wvol, zp, chunk=20000):
-    """Adds, per node, a Gershgorin bound of the zones' stiffness: the largest
-    absolute row sum (over the node's 3 rows) of the element matrices
+    """Adds, per node and component (stiff (n, 3)), a Gershgorin bound of the
+    zones' stiffness: the absolute row sum of the element matrices
     w V B^T D B, summed over the node's tetrahedra.  Mixed discretization
     only lowers the stiffness (it averages the volumetric strain), so this
     bounds the mixed stiffness too: omega_max^2 <= max_i k_i / m_i."""
@@ -50,19 +59,19 @@ def zone_stiffness(stiff, tets, dn, wvol, zp, chunk=20000):
             D[:, i, i] += 2.0 * gg
             D[:, 3 + i, 3 + i] = gg
         ke = np.einsum("nki,nkl,nlj->nij", B, D, B) * wvol[s:s + chunk, None, None]
-        rows = np.abs(ke).sum(axis=2).reshape(n, 4, 3).max(axis=2)       # (n, 4)
-        np.add.at(stiff, t.ravel(), rows.ravel())
+        rows = np.abs(ke).sum(axis=2).reshape(n * 4, 3)
+        np.add.at(stiff, t.ravel(), rows)
 
 
 def cell_stiffness_bound(stiff, cells):
-    """Adds, per node, the largest absolute row sum (over its 3 rows) of
+    """Adds, per node and component (stiff (n, 3)), the absolute row sum of
     each linear cell's matrix E K."""
-    rows = np.abs(cells.K).sum(axis=2).reshape(-1, 8, 3).max(axis=2)       # (nk, 8)
-    np.add.at(stiff, cells.nodes.ravel(), (cells.scale[:, None] * rows[cells.kind]).ravel())
+    rows = np.abs(cells.K).sum(axis=2).reshape(-1, 8, 3)                  # (nk, 8, 3)
+    np.add.at(stiff, cells.nodes.ravel(), (cells.scale[:, None, None] * rows[cells.kind]).reshape(-1, 3))
 
 
-def _contact_rowmax(sc):
-    """Per sub-contact: area times the largest absolute row sum of its
+def _contact_rows(sc):
+    """Per sub-contact (n, 3): area times the absolute row sums of its
     stiffness C = k_n n n^T + k_s (t1 t1^T + t2 t2^T)."""
     n = sc.area.shape[0]
     ax = sc.axes.reshape(n, 3, 3)
@@ -70,7 +79,13 @@ def _contact_rowmax(sc):
     C = (kn[:, None, None] * np.einsum("ni,nj->nij", ax[:, 0], ax[:, 0])
          + ks[:, None, None] * (np.einsum("ni,nj->nij", ax[:, 1], ax[:, 1])
                                 + np.einsum("ni,nj->nij", ax[:, 2], ax[:, 2])))
-    return np.abs(C).sum(axis=2).max(axis=1) * sc.area
+    return np.abs(C).sum(axis=2) * sc.area[:, None]
+
+
+def _contact_rowmax(sc):
+    """Per sub-contact: area times the largest absolute row sum of its
+    stiffness (any orientation of its axes: rigid blocks)."""
+    return _contact_rows(sc).max(axis=1)
 
 
 def rigid_contact_stiffness(kt, kr, sc):
@@ -94,26 +109,28 @@ def rigid_contact_stiffness(kt, kr, sc):
 
 
 def contact_stiffness(stiff, sc):
-    """Gershgorin bound of the sub-contacts' stiffness: a sub-contact couples
-    its (up to 8) interpolated nodes through
-    C = area (k_n n n^T + k_s (t1 t1^T + t2 t2^T)); node i's absolute row sum
-    is |w_i| (sum_j |w_j|) max_row sum |C|."""
+    """Gershgorin bound of the sub-contacts' stiffness, per node and component
+    (stiff (n, 3)): a sub-contact couples its (up to 8) interpolated nodes
+    through C = area (k_n n n^T + k_s (t1 t1^T + t2 t2^T)); the absolute row
+    sum of component d of node i is |w_i| (sum_j |w_j|) sum_e |C_de|."""
     if sc.area.shape[0] == 0:
         return
-    rowmax = _contact_rowmax(sc)
+    rows = _contact_rows(sc)
     w = np.abs(sc.w)
     wsum = w.sum(axis=1)
-    np.add.at(stiff, sc.nodes.ravel(), (w * (wsum * rowmax)[:, None]).ravel())
+    np.add.at(stiff, sc.nodes.ravel(), (w[:, :, None] * (wsum[:, None] * rows)[:, None, :]).reshape(-1, 3))
 
 
 def scaled_masses(k, alpha, safety, dt=1.0):
-    """Quasi-static density scaling: m_i = (1 + alpha) k_i (dt / (2 s))^2,
-    so that dt is s times the critical step (1 where k_i = 0)."""
+    """Quasi-static density scaling: m_i = (1 + alpha) k_i (dt / (2 s))^2 per
+    degree of freedom, so that dt is s times the critical step (1 where
+    k_i = 0)."""
     return np.where(k > 0, (1.0 + alpha) * k * (dt / (2.0 * safety)) ** 2, 1.0)
 
 
 def critical_step(mass, k, alpha, free):
-    """dt_crit = 2 min over free degrees of freedom sqrt(m / ((1 + alpha) k))."""
+    """dt_crit = 2 min over free degrees of freedom sqrt(m / ((1 + alpha) k));
+    ``free`` selects the rows (nodes or bodies)."""
     with np.errstate(divide="ignore"):
         return float(np.min(2.0 * np.sqrt(mass[free] / ((1.0 + alpha) * k[free])), initial=np.inf))
 
@@ -121,7 +138,8 @@ def critical_step(mass, k, alpha, free):
 def physical_masses(phys, free, field):
     """Dynamic mode: the physical masses (or inertias); a free degree of
     freedom needs a positive one; prescribed ones get 1 where they have none."""
-    if np.any(free & (phys <= 0)):
+    rows = free[:, None] if phys.ndim == 2 else free
+    if np.any(rows & (phys <= 0)):
         raise InputError(field, "dynamic mode needs a positive density for every block")
     mass = phys.copy()
     mass[~free] = np.where(mass[~free] > 0, mass[~free], 1.0)

@@ -71,7 +71,7 @@ class Nodes(NamedTuple):
     u: np.ndarray       # (n, 3) displacement
     v: np.ndarray       # (n, 3) velocity
     f: np.ndarray       # (n, 3) force of the last step (on prescribed components: the reaction)
-    mass: np.ndarray    # (n,) inertial mass (scaled in quasi-static mode)
+    mass: np.ndarray    # (n, 3) inertial mass per component (scaled in quasi-static mode)
     mgrav: np.ndarray   # (n,) physical mass, which gravity loads
     fixed: np.ndarray   # (n, 3) uint8: the component's velocity is prescribed
     vpres: np.ndarray   # (n, 3) prescribed velocity (times the velocity factor)
@@ -170,8 +170,7 @@ class Controls(NamedTuple):
     alpha: float        # local damping
     lf: float           # load factor (applied forces)
     vf0: float          # velocity factor before the chunk ...
-    dvf: float          # ... its increment per step (a ramp) ...
-    vft: float          # ... up (or down) to this target
+    dvf: float          # ... and its increment per step (a ramp, capped at 1)
     gravity: np.ndarray  # (3,)
 
 
