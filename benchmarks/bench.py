@@ -58,7 +58,7 @@ MODELS = {
     "elastic-zones": ([*EL, "numerics.elastic_element=zones", *MESH], [*EL, "numerics.elastic_element=zones"]),
     "elastic-tet10": ([*EL, "numerics.elastic_element=tet10", *MESH], [*EL, "numerics.elastic_element=tet10"]),
     "elastic-hex8i": ([*EL, "numerics.elastic_element=hex8i", *MESH], [*EL, "numerics.elastic_element=hex8i"]),
-    "potential-crack-2x3x2": ([], ["numerics.cells=[2, 1, 1]"]),
+    "potential-crack": ([], ["numerics.cells=[2, 1, 1]"]),
     "rigid": (["physics.blocks=rigid", *MESH], ["physics.blocks=rigid"]),
 }
 STRONG = ["materials.joints.ft=1.0e6", "materials.joints.GI=30.0"]
@@ -188,7 +188,7 @@ def main(tiny=False):
     for name, (full, small) in MODELS.items():
         base = small + TINY if tiny else full
         models[name] = kernel_times(base, steps, ramp)
-        if name in ("elasto-plastic", "potential-crack-2x3x2"):
+        if name in ("elasto-plastic", "potential-crack"):
             # strong joints: the bricks crack (brick failure), so the plastic path runs
             brick = kernel_times(base + STRONG, int(1.5 * steps), ramp)
             models[name]["brick_failure"] = {k: v for k, v in brick.items()

@@ -21,6 +21,17 @@ def test_richardson_recovers_limit_and_order():
     assert P_inf == pytest.approx(10.0, abs=1e-9) and p == pytest.approx(1.5, abs=1e-7)
 
 
+def test_observed_orders_of_consecutive_levels():
+    """P(n) = 5 + 2 n^-1.2 on levels 7, 9, ..., 15 shows the order 1.2 on
+    every three consecutive levels; a kink (a level raised) shows as '-'
+    where the three are not monotone."""
+    n = np.arange(7.0, 16.0, 2.0)
+    assert accuracy.observed_orders(n, 5 + 2 * n ** -1.2) == "1.20 1.20 1.20"
+    P = 5 + 2 * n ** -1.2
+    P[3] += 0.1
+    assert accuracy.observed_orders(n, P).split()[2] == "-"
+
+
 def test_richardson_refuses_non_monotone_levels():
     assert np.isnan(accuracy.richardson([4, 6, 8], [15.0, 14.0, 14.5])[0])
 
@@ -37,6 +48,9 @@ def test_reference_evidence():
     assert r["method"].startswith("Richardson") and r["last_two_diff"] == pytest.approx(0.05 / 5.05)
     r = accuracy.reference(pd.DataFrame(dict(cells_n=n, P_max_kN=[5.0, 4.97, 4.99])))
     assert r["reference_kN"] == 4.99 and r["method"].startswith("finest level")
+    # monotone, but the steps grow: no order either
+    r = accuracy.reference(pd.DataFrame(dict(cells_n=n, P_max_kN=[5.0, 4.999, 4.98])))
+    assert r["reference_kN"] == 4.98 and r["method"].startswith("finest level") and np.isnan(r["order"])
     r = accuracy.reference(pd.DataFrame(dict(cells_n=n, P_max_kN=5 + 8.0 / n)))
     assert r["method"].startswith("NOT CONVERGED") and r["reference_kN"] == 5.5
 

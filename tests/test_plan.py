@@ -116,15 +116,16 @@ def test_specimens_and_study_pictures():
 
 
 def test_the_projects_config_plans_its_accuracy_study():
-    """config/config.yaml: per case the 6 path levels, 12 candidates, the
-    defaults and 9 one-at-a-time values (plus two ratio_tol values under
-    precompression): 28 + 30 + 28 + 30 + 30 = 146 runs; the path levels run
-    the elasto-plastic model at the paths' rate (2.5e-8 m per step, their
+    """config/config.yaml: per case the 8 path levels, 12 candidates, the
+    defaults, 9 one-at-a-time values (plus two ratio_tol values under
+    precompression) and the finest-but-one path level at half the paths'
+    rate: 31 + 33 + 31 + 33 + 33 = 161 runs; the path levels run the
+    elasto-plastic model at the paths' rate (2.5e-8 m per step, their
     overrides), the brick cases' at half of it (their path_overrides)."""
     from masonrydem.scene import load_scene
     config = yaml.safe_load(open("config/config.yaml"))
     runs = plan.accuracy_runs(config)
-    assert len(runs) == 146 and len(set(runs)) == 146
+    assert len(runs) == 161 and len(set(runs)) == 161
     assert {s for c, s in runs if c == "joint_sv0"} >= {"path_c17x8x6", "pc_c6x3x2_r121", "default", "rate_7.5e-08"}
     assert ("joint_sv05", "ratio_tol_1e-05") in runs and ("joint_sv0", "ratio_tol_1e-05") not in runs
     joint = load_scene(config["scene"], plan.accuracy_overrides(config, "joint_sv0", "path_c17x8x6"))
@@ -132,3 +133,7 @@ def test_the_projects_config_plans_its_accuracy_study():
     o = plan.accuracy_overrides(config, "brick_sv0", "path_c17x8x6")
     assert "loading.bending.rate=1.25e-8" in o and "physics.blocks=elasto-plastic" in o
     assert o[-1] == "numerics.cells=[17, 8, 6]"
+    # a setting 'around' a path level: that level's overrides, then the value
+    o = plan.accuracy_overrides(config, "brick_sv0", "path_rate_6.25e-09")
+    assert o[-2:] == ["numerics.cells=[17, 8, 6]", "loading.bending.rate=6.25e-09"]
+    assert ("joint_sv0", "path_rate_1.25e-08") in runs and ("joint_sv0", "path_rate_6.25e-09") not in runs

@@ -39,8 +39,8 @@ def reference(path, tolerance=0.01):
     """Converged reference of one case from its refinement path (a table of
     cells_n and P_max_kN, coarse to fine).  The path has converged when its
     two finest levels lie within ``tolerance`` of each other; the reference
-    is then the Richardson limit of the three finest levels when they are
-    monotone (with its observed order), else the finest level.  A path
+    is then the Richardson limit of the three finest levels when they show
+    an order (monotone, with shrinking steps), else the finest level.  A path
     whose two finest levels differ by more is flagged NOT CONVERGED (its
     finest level stands, and judges no setting)."""
     path = path.sort_values("cells_n")
@@ -53,10 +53,20 @@ def reference(path, tolerance=0.01):
         value, method = P_inf, (f"Richardson limit of the three finest levels (observed order {p:.2f}; "
                                 f"two finest within {100 * last_two:.2f} %)")
     else:
-        value, method = P[-1], (f"finest level (two finest within {100 * last_two:.2f} %, three finest not "
-                                "monotone: no observed order)")
+        value, method = P[-1], (f"finest level (two finest within {100 * last_two:.2f} %; the three finest "
+                                "not monotone, or their steps not shrinking: no observed order)")
     return dict(reference_kN=float(value), method=method, order=p, finest_kN=float(P[-1]),
-                finest_n=int(n[-1]), last_two_diff=float(last_two), finest_error=float(P[-1] / value - 1.0))
+                finest_n=int(n[-1]), last_two_diff=float(last_two), finest_error=float(P[-1] / value - 1.0),
+                orders=observed_orders(n, P))
+
+
+def observed_orders(n, P):
+    """The observed order of every three consecutive levels, coarse to fine
+    ('-' where they are not monotone), e.g. '0.9 1.2 1.6': a path in its
+    asymptotic range shows a steady order, one that is not yet shows it
+    drifting, and then its Richardson limit is no firmer than that drift."""
+    orders = [richardson(n[i:i + 3], P[i:i + 3])[1] for i in range(len(P) - 2)]
+    return " ".join("-" if not np.isfinite(p) else f"{p:.2f}" for p in orders)
 
 
 def pareto_front(cost, error):

@@ -250,7 +250,8 @@ def accuracy_convergence(conv):
     """accuracy.sweep_table's convergence table, one line per case."""
     return dict(lines=_bullets(
         f"{r.case}: **{r.reference_kN:.3f} kN** ({r.reference_mode} failure), {r.method}; path "
-        f"(setting: P_max kN) {r.levels}; finest level {100 * r.finest_error:+.2f} % from the reference"
+        f"(setting: P_max kN) {r.levels}; observed orders of consecutive levels {r.orders or 'none'}; "
+        f"finest level {100 * r.finest_error:+.2f} % from the reference"
         for r in conv.itertuples()))
 
 
