@@ -18,7 +18,7 @@ $(STAMP): pyproject.toml | $(BIN)/python
 # it reuses), then the report; says first what it will run
 reproduce: $(STAMP)
 	@echo "make reproduce: validation, the 1000-run study, hard cases, reduced models and specimens,"
-	@echo "then results/report.zip: about 35 minutes on two cores from a fresh clone (README)."
+	@echo "then results/report.zip: about 30 minutes on two cores from a fresh clone (README)."
 	@echo "The accuracy study is not rerun: its committed summaries are reused (snakemake --cores 2 accuracy)."
 	@$(BIN)/snakemake -n --quiet rules
 	$(BIN)/snakemake --cores 2
