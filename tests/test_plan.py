@@ -118,7 +118,7 @@ def test_specimens_and_study_pictures():
 def test_the_projects_config_plans_its_accuracy_study():
     """config/config.yaml: per case the 8 path levels, 12 candidates, the
     defaults, 9 one-at-a-time values (plus two ratio_tol values under
-    precompression) and the finest-but-one path level at half the paths'
+    precompression) and the 17x8x6 path level at half the paths'
     rate: 31 + 33 + 31 + 33 + 33 = 161 runs; the path levels run the
     elasto-plastic model at the paths' rate (2.5e-8 m per step, their
     overrides), the brick cases' at half of it (their path_overrides)."""
