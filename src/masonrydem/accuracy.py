@@ -63,9 +63,9 @@ def reference(path, tolerance=0.01):
 def observed_orders(n, P):
     """The observed order of every three consecutive levels, coarse to fine
     ('-' where they show none: not monotone, or steps not shrinking), e.g.
-    '0.9 1.2 1.6': a path in its
-    asymptotic range shows a steady order, one that is not yet shows it
-    drifting, and then its Richardson limit is no firmer than that drift."""
+    '0.9 1.2 1.6': a path in its asymptotic range shows a steady order, one
+    that is not yet shows it drifting, and then its Richardson limit is no
+    firmer than that drift."""
     orders = [richardson(n[i:i + 3], P[i:i + 3])[1] for i in range(len(P) - 2)]
     return " ".join("-" if not np.isfinite(p) else f"{p:.2f}" for p in orders)
 
