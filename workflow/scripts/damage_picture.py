@@ -7,9 +7,10 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 import pandas as pd  # noqa: E402
 import pyvista as pv  # noqa: E402
 
+from masonrydem.figures import PICTURE_WINDOW  # noqa: E402
 from masonrydem.viz import picture_damage  # noqa: E402
 
 row = pd.read_parquet(sm.input.result).iloc[0]
 title = (f"{row['scene']}, sigma_v = {row['sigma_v_mpa']:.3g} MPa: P_max {row['P_max_kN']:.2f} kN, "
          f"{row['failure_mode']} failure")
-print("magnification", picture_damage(pv.read(sm.input.state), sm.output[0], title=title))
+print("magnification", picture_damage(pv.read(sm.input.state), sm.output[0], title=title, window=PICTURE_WINDOW))

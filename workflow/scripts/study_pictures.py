@@ -35,5 +35,6 @@ for (variant, mode), path in zip(sm.params.pictures, sm.output.pictures):
                            f"{row['P_max_kN']} kN ({row['failure_mode']}), the study recorded {pick.P_max_kN} kN "
                            f"({pick.failure_mode})")
     picture_damage(state_blocks(specimen, solver), path, title=f"{variant} sample {pick['sample']}, sigma_v = "
-                   f"{pick.sigma_v_mpa:g} MPa: P_max {pick.P_max_kN:.2f} kN, {mode} failure")
+                   f"{pick.sigma_v_mpa:g} MPa: P_max {pick.P_max_kN:.2f} kN, {mode} failure",
+                   window=figures.PICTURE_WINDOW)
 captions.write_caption(sm.input.template, sm.output.caption, **captions.study_pictures(picked))
