@@ -11,13 +11,16 @@ Prints one JSON line; per unit model (under "models"):
                           joints, bearings, node update, histories)
 and, at the top level, the elasto-plastic model's figures (the source
 paper's model), its figures in brick failure, and
-  kernel_load_s           a fresh process: time of the first time step of a
-                          small model once the kernels are cached (import of
-                          the package not included; reported apart)
+  kernel_load_s           a fresh process: time of the solver's set-up
+                          (solver.init, which loads the step kernel) and
+                          first time step of a small model once the kernels
+                          are cached (import of the package not included;
+                          reported apart)
   import_s                a fresh process: `import masonrydem`
-  job                     `python -m masonrydem.job` on a small wallette: its
-                          own start-up (interpreter start to the first
-                          step's set-up) and its wall time
+  job                     a study job (`python -m masonrydem.cli run
+                          --samples ...`) on a small wallette: its own
+                          start-up (interpreter start to the simulation's
+                          start) and its wall time
 The kernels are timed on realistic states: the wallette loaded past its
 peak (joint failure: joints softening), and a strong-joint wallette past
 its peak (brick failure: zones or crack interfaces cracking).  ``--tiny``:
@@ -36,13 +39,14 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 from numba import njit  # noqa: E402
 
-from masonrydem import Solver  # noqa: E402
 from masonrydem import kernels as K  # noqa: E402
 from masonrydem.kernels.cells import cell_forces  # noqa: E402
 from masonrydem.kernels.joints import contact_forces  # noqa: E402
 from masonrydem.kernels.zones import zone_forces  # noqa: E402
 from masonrydem.scene import load_scene  # noqa: E402
+from masonrydem.solver import Controls, init, prescribe, zone_damage  # noqa: E402
 from masonrydem.specimen import build  # noqa: E402
+from masonrydem.stops import run  # noqa: E402
 
 SCENE = "config/scenes/willis.yaml"
 TINY = ["geometry.courses=2", "geometry.units_per_course=2", "numerics.cells=[1, 1, 1]",
@@ -67,14 +71,13 @@ FRESH = """
 import time, sys
 t0 = time.perf_counter()
 import masonrydem
-from masonrydem import Solver
 from masonrydem.scene import load_scene
+from masonrydem.solver import Controls, advance, init
 from masonrydem.specimen import build
 t1 = time.perf_counter()
 sp = build(load_scene("config/scenes/willis.yaml", ["geometry.courses=2", "numerics.cells=[1, 1, 1]"]))
-s = Solver(sp.model)
 t2 = time.perf_counter()
-s.cycle(1)
+advance(init(sp.assembly), Controls(), 1)
 t3 = time.perf_counter()
 print(t1 - t0, t3 - t2)
 """
@@ -126,23 +129,23 @@ def kernel_times(overrides, steps=6000, ramp=2000):
     then times the zone, cell and joint kernels on copies of that state and
     a stretch of whole steps."""
     sp = build(load_scene(SCENE, overrides))
-    s = Solver(sp.model, chunk=500)
-    s.vpres[sp.drive] = [0.0, 5e-8, 0.0]
-    s.run(steps, ramp_steps=ramp)
-    nodes = s.nodes._replace(v=s.v.copy(), f=np.zeros_like(s.f))
-    zs = s.zones._replace(state=s.zs.copy(), stress=s.stress.copy())
-    js = s.joints._replace(state=s.js.copy())
+    s = prescribe(init(sp.assembly), sp.drive, [0.0, 5e-8, 0.0])
+    s, _, _ = run(s, steps, controls=Controls(ramp_steps=ramp), chunk=500)
+    nodes = s.nodes._replace(v=s.nodes.v.copy(), f=np.zeros_like(s.nodes.f))
+    zs = s.zones._replace(state=s.zones.state.copy(), stress=s.zones.stress.copy())
+    js = s.joints._replace(state=s.joints.state.copy())
     cs = s.assembly.cells
     zone_kernel, cell_kernel, joint_kernel = _kernels(s.assembly.zlaw, s.assembly.jlaw)
     nt, nc, nsc = zs.tets.shape[0], cs.nodes.shape[0], js.area.shape[0]
-    t_step = best_of(lambda: s.cycle(500), 1, repeat=6) / 500
+    # whole steps as a stage runs them: 500 steps, their histories and peaks
+    t_step = best_of(lambda: run(s, 500, chunk=500), 1, repeat=6) / 500
     out = dict(steps_per_s=round(1.0 / t_step, 1), tetrahedra=int(nt), cells=int(nc), subcontacts=int(nsc),
-               damaged_subcontacts=int((s.js[:, K.JS_D] > 0).sum()))
+               damaged_subcontacts=int((s.joints.state[:, K.JS_D] > 0).sum()))
     if nt:
         zone_kernel(1, 1e-3, nodes, zs, s.scratch)
         t_zone = best_of(lambda: zone_kernel(200, 1e-3, nodes, zs, s.scratch), 1) / 200
         out.update(ns_per_tet_step=round(t_zone / nt * 1e9, 1), ns_per_cell_step=round(t_zone / nt * 10e9, 1),
-                   cracked_zones=int((s.zone_damage() > 0).sum()), share_zones=round(t_zone / t_step, 3))
+                   cracked_zones=int((zone_damage(s) > 0).sum()), share_zones=round(t_zone / t_step, 3))
     if nc:
         cell_kernel(1, nodes, cs, s.scratch)
         t_cell = best_of(lambda: cell_kernel(200, nodes, cs, s.scratch), 1) / 200
@@ -155,25 +158,26 @@ def kernel_times(overrides, steps=6000, ramp=2000):
 
 
 def job_times(tiny):
-    """`python -m masonrydem.job` as the workflow runs it (one sample of the
-    study, one thread), on the tiny wallette or on the 2-course wallette:
-    its own start-up (startup_s, from the interpreter's start to the first
-    step's set-up) and the job's wall time."""
+    """A study job as the workflow runs it (`python -m masonrydem.cli run
+    --samples ...`: one sample of the study, one thread), on the tiny
+    wallette or on the 2-course wallette: its own start-up (startup_s, from
+    the interpreter's start to the simulation's start) and the job's wall
+    time."""
     import tempfile
-    from masonrydem.runner import write_json
+    from masonrydem.results import write_json
     from masonrydem.sampling import records, study_samples
     size = TINY if tiny else ["geometry.courses=2", "numerics.cells=[1, 1, 1]"]
     with tempfile.TemporaryDirectory() as tmp:
         write_json(f"{tmp}/samples.json", records(study_samples(2, 1)[0]))
-        cmd = [sys.executable, "-m", "masonrydem.job", SCENE, "--samples", f"{tmp}/samples.json", "--variant",
-               "nonspatial", "--sv", "0.0", "--sample", "0", "--result", f"{tmp}/r.json", "--curve", f"{tmp}/c.json",
+        cmd = [sys.executable, "-m", "masonrydem.cli", "run", SCENE, "--samples", f"{tmp}/samples.json", "--variant",
+               "nonspatial", "--sample", "0", "--out", tmp, "--format", "json", "--exit-zero",
                *(x for o in size for x in ("--set", o))]
         best = None
         for _ in range(1 if tiny else 3):
             t0 = time.perf_counter()
             subprocess.run(cmd, capture_output=True, check=True)
             wall = time.perf_counter() - t0
-            with open(f"{tmp}/r.json") as f:
+            with open(f"{tmp}/result.json") as f:
                 row = json.load(f)
             if best is None or row["startup_s"] < best["startup_s"]:
                 best = dict(startup_s=round(row["startup_s"], 3), wall_s=round(wall, 3), steps=row["steps"])

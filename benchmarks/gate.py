@@ -1,17 +1,19 @@
-"""Refactor gate: P_max (all digits) and step counts of a fixed set of runs.
+"""Refactor gate: the rows and curves of a fixed set of runs, every digit.
 
-A refactor must leave every number printed here unchanged, bit for bit.
-Prints one JSON object (run -> [P_max_kN, steps, status]) and, with
-``--out FILE``, writes it; ``--compare FILE`` reports every difference and
-exits 1 if there is one.
+A refactor must leave every value written here unchanged, bit for bit:
+each run's row (wall and start-up times and the solver version aside) and
+its whole curve.  ``--out FILE`` writes them (JSON, floats as repr);
+``--compare FILE`` reports every difference and exits 1 if there is one.
 
     python benchmarks/gate.py --out before.json            # on the old code
     python benchmarks/gate.py --compare before.json        # on the new code
 
-The set covers every kernel path: elasto-plastic, elastic and rigid units,
+The set covers every kernel path (elasto-plastic, elastic and rigid units,
 large displacements, each joint law, gravity, precompression, the three
-tests (bending, tension, triplet), a spatial study sample and two runs at
-the study's numerics (config/config.yaml).
+tests, a spatial field), the validation runs of config/config.yaml at the
+study's numerics, and ten samples of the committed study of each variant
+at 0 and 0.5 MPa (results/study/samples_*.parquet; --quick: the kernel
+paths only).
 """
 import argparse
 import json
@@ -21,11 +23,8 @@ import time
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
-import pandas as pd  # noqa: E402
+import numpy as np  # noqa: E402
 import yaml  # noqa: E402
-
-from masonrydem.runner import run_scene  # noqa: E402
-from masonrydem.scene import load_scene  # noqa: E402
 
 W = "config/scenes/willis.yaml"
 COARSE = ["physics.blocks=elasto-plastic", "numerics.cells=[3, 2, 1]", "loading.bending.rate=1.0e-7",
@@ -48,41 +47,105 @@ RUNS = {
                                     "5.0e9, 5.0e9, 25.0e9, 5.0e9, 25.0e9, 25.0e9, 5.0e9, 25.0e9, 5.0e9, 5.0e9, "
                                     "25.0e9, 5.0e9, 25.0e9, 25.0e9, 5.0e9, 25.0e9, 5.0e9]"]),
 }
+SKIP = ("wall_time_s", "solver_version", "startup_s")
 
 
-def study_numerics():
-    """The config's numerics (empty: the scene's own, the study's)."""
+def study_runs(n=10, levels=(0.0, 0.5)):
+    """(name, overrides, sample, variant) of n committed samples per variant."""
+    import pandas as pd
     with open("config/config.yaml") as f:
-        return yaml.safe_load(f)["numerics"]
+        numerics = yaml.safe_load(f)["numerics"]
+    out = []
+    for variant in ("nonspatial", "spatial"):
+        table = pd.read_parquet(f"results/study/samples_{variant}.parquet")
+        for i in range(n):
+            s = {k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in table.iloc[i].to_dict().items()}
+            for sv in levels:
+                out.append((f"study_{variant}_s{i}_sv{sv}",
+                            numerics + [f"loading.precompression.pressure={sv * 1e6}"], s, variant))
+    return out
+
+
+def validation_runs():
+    with open("config/config.yaml") as f:
+        config = yaml.safe_load(f)
+    v = config["validation"]
+    return {f"validation_{c['name']}_sv{sv}": (W, config["numerics"] + c["overrides"]
+                                               + [f"loading.precompression.pressure={sv * 1e6}"])
+            for c in v["cases"] for sv in v["precompression_mpa"]}
+
+
+def run_one(scene_file, overrides, sample=None, variant=None):
+    """(row, curve) of one run, values as they are written."""
+    from dataclasses import asdict
+
+    from masonrydem.inputs import apply_overrides, read_scene
+    from masonrydem.protocol import simulate
+    from masonrydem.results import curve, outcome_row
+    from masonrydem.scene import validate_scene
+    from masonrydem.study import apply_sample
+    raw = apply_overrides(read_scene(scene_file), overrides)
+    labels = {}
+    if sample is not None:
+        apply_sample(raw, sample, variant)
+        labels = dict(variant=variant, sample=int(sample["sample"]))
+    outcome = simulate(validate_scene(raw), progress=False)
+    return asdict(outcome_row(outcome, **labels)), curve(outcome)
+
+
+def record(row, curve):
+    def clean(v):
+        if isinstance(v, (float, np.floating)):
+            return repr(float(v))
+        return v.item() if hasattr(v, "item") else v
+    return dict(row={k: clean(v) for k, v in row.items() if k not in SKIP},
+                curve={k: [repr(float(x)) for x in np.asarray(v)] for k, v in curve.items()})
+
+
+def compare(out, ref):
+    """Every difference between two gate records, as lines."""
+    lines = []
+    for name, rec in out.items():
+        if name not in ref:
+            lines.append(f"{name}: not in the reference")
+            continue
+        for part in ("row", "curve"):
+            a, b = ref[name][part], rec[part]
+            for k in sorted(set(a) | set(b)):
+                if k in ("variant", "sample") and a.get(k) is None:      # labels the old rows lacked
+                    continue
+                if a.get(k) != b.get(k):
+                    lines.append(f"{name} {part}.{k}: before {str(a.get(k))[:80]}, now {str(b.get(k))[:80]}")
+    return lines
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--out")
     ap.add_argument("--compare")
-    ap.add_argument("--quick", action="store_true", help="skip the two runs at the study's numerics")
+    ap.add_argument("--quick", action="store_true", help="the kernel paths only")
     args = ap.parse_args()
-    runs = dict(RUNS)
+    runs = [(n, s, o, None, None) for n, (s, o) in RUNS.items()]
     if not args.quick:
-        runs["study_sv0"] = (W, study_numerics())
-        runs["study_strong_sv015"] = (W, study_numerics() + STRONG + ["loading.precompression.pressure=0.15e6"])
+        runs += [(n, s, o, None, None) for n, (s, o) in validation_runs().items()]
+        runs += [(n, W, o, s, v) for n, o, s, v in study_runs()]
     out = {}
-    for name, (scene, overrides) in runs.items():
+    for name, scene, overrides, sample, variant in runs:
         t0 = time.perf_counter()
-        row = run_scene(load_scene(scene, overrides), progress=False)[0]
-        out[name] = [repr(float(row["P_max_kN"])), int(row["steps"]), row["status"]]
-        print(f"{name:22s} {out[name]}  {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
-    print(json.dumps(out))
+        out[name] = record(*run_one(scene, overrides, sample, variant))
+        r = out[name]["row"]
+        print(f"{name:32s} {r['P_max_kN']:>22s} {r['steps']:6d} {r['status']}  {time.perf_counter() - t0:.1f} s",
+              file=sys.stderr, flush=True)
     if args.out:
         with open(args.out, "w") as f:
-            json.dump(out, f, indent=1)
+            json.dump(out, f)
     if args.compare:
         with open(args.compare) as f:
-            ref = json.load(f)
-        diff = {k: (ref.get(k), v) for k, v in out.items() if ref.get(k) != v}
-        for k, (a, b) in diff.items():
-            print(f"DIFFERENT {k}: before {a}, now {b}", file=sys.stderr)
-        print("identical" if not diff else f"{len(diff)} runs differ", file=sys.stderr)
+            diff = compare(out, json.load(f))
+        for line in diff:
+            print("DIFFERENT", line, file=sys.stderr)
+        print(f"identical: {len(out)} runs, rows and curves" if not diff else f"{len(diff)} differences",
+              file=sys.stderr)
         return 1 if diff else 0
     return 0
 

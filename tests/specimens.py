@@ -1,7 +1,10 @@
 """Small specimens for the verification tests."""
 import numpy as np
 
-from masonrydem import Elastic, Model, Solver
+from masonrydem import Elastic, Model
+from masonrydem.history import concat
+from masonrydem.solver import init, prescribe
+from masonrydem.stops import Stops, run
 
 
 
@@ -21,31 +24,32 @@ def block_nodes(m, blk):
 
 def work(history, group=0):
     """Work of the monitored load, int P du (trapezoidal rule)."""
-    P = history[:, 3 + 2 * group]
-    u = history[:, 4 + 2 * group]
+    P = history.force[:, group]
+    u = history.disp[:, group]
     return float(np.sum(0.5 * (P[1:] + P[:-1]) * np.diff(u)))
 
 
 def pull_joint(props, rate=2e-9, law="coupled_softening", max_steps=200_000):
     """Direct tension of one joint under displacement control: the lower
     block is fixed, every node of the upper block moves up at ``rate`` per
-    step.  Returns (solver, history, area)."""
+    step.  Returns (final state, history, area)."""
     m, lower, upper = two_blocks(law, props)
     m.fix(block_nodes(m, lower))
     up = block_nodes(m, upper)
     m.fix(up, dofs=(0, 1, 2), velocity=(0.0, 0.0, rate))
     m.add_monitor("pull", up, 2)
-    s = Solver(m, record_every=1)
+    state = init(m.build())
     wu = 2 * props.GI / props.ft
-    s.run(max_steps, disp_limit=1.2 * wu + props.ft / props.kn, monitor="pull")
-    return s, s.history.array(), 0.01
+    state, rec, _ = run(state, max_steps, Stops(disp_limit=1.2 * wu + props.ft / props.kn, monitor="pull"),
+                        record_every=1)
+    return state, rec.history, 0.01
 
 
 def shear_joint(props, sigma, rate=2e-9, law="coupled_softening", travel=None, max_steps=400_000):
     """Direct shear of one joint at constant normal (compressive) stress
     ``sigma``: lower block fixed; every node of the upper block moves along x
     at ``rate`` per step, is held in y and free in z; a pressure sigma acts
-    on the top face.  Returns (solver, history, area)."""
+    on the top face.  Returns (final state, history, area)."""
     m, lower, upper = two_blocks(law, props)
     m.fix(block_nodes(m, lower))
     up = block_nodes(m, upper)
@@ -53,12 +57,15 @@ def shear_joint(props, sigma, rate=2e-9, law="coupled_softening", travel=None, m
     if sigma:
         m.add_pressure(2, 0.1, +1, ((-1, 1), (-1, 1)), sigma)
     m.add_monitor("shear", up, 0)
-    s = Solver(m, record_every=1)
+    state = init(m.build())
+    histories = []
     if sigma:                       # precompress first, then shear
-        s.vpres[up, 0] = 0.0
-        s.run(50_000, ratio_tol=1e-8)
-        s.vpres[up, 0] = rate
+        state = prescribe(state, (up, 0), 0.0)
+        state, rec, _ = run(state, 50_000, Stops(ratio_tol=1e-8), record_every=1)
+        histories.append(rec.history)
+        state = prescribe(state, (up, 0), rate)
     su = 2 * props.GII / props.c
     travel = travel or 1.5 * su + props.c / props.ks
-    s.run(max_steps, disp_limit=travel, monitor="shear")
-    return s, s.history.array(), 0.01
+    state, rec, _ = run(state, max_steps, Stops(disp_limit=travel, monitor="shear"), record_every=1)
+    histories.append(rec.history)
+    return state, concat(histories, state.assembly.monitor_names), 0.01

@@ -96,11 +96,11 @@ def test_compare_subsample():
 
 
 def test_solver_hash_covers_everything_a_simulation_runs():
-    """Every package module that a simulation imports (runner and study,
-    in a fresh interpreter) is in the hash, so that changing it reruns
+    """Every package module that a simulation imports (its entry point,
+    the command line, and what it runs, in a fresh interpreter) is in the hash, so that changing it reruns
     the simulations; the analysis modules are not imported by them and
     not hashed."""
-    code = ("import sys, masonrydem.runner, masonrydem.study; "
+    code = ("import sys, masonrydem.cli, masonrydem.protocol, masonrydem.results, masonrydem.study; "
             "print('\\n'.join(m.__file__ for n, m in sys.modules.items() if n.startswith('masonrydem')))")
     files = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
     pkg = Path(masonrydem.__file__).parent

@@ -14,8 +14,9 @@ import pandas as pd
 import pytest
 import yaml
 
-from masonrydem import InputError, cli, plan, runner
-from masonrydem.scene import MAX_BYTES, SCHEMA, load_scene, model_size
+from masonrydem import InputError, cli, plan, protocol, results
+from masonrydem.inputs import MAX_BYTES, read_scene
+from masonrydem.scene import SCHEMA, load_scene, model_size, validate_scene
 from masonrydem.specimen import build
 
 WILLIS = "config/scenes/willis.yaml"
@@ -123,8 +124,8 @@ def no_simulation(monkeypatch):
     report an internal error, 3, not 2)."""
     def refuse(*a, **k):
         raise AssertionError("a simulation started")
-    monkeypatch.setattr(runner, "simulate", refuse)
-    monkeypatch.setattr(runner, "build", refuse)
+    monkeypatch.setattr(protocol, "simulate", refuse)
+    monkeypatch.setattr(protocol, "build", refuse)
 
 
 def _argv(tmp_path, content, extra):
@@ -189,8 +190,8 @@ def test_size_estimate_bounds_the_model_built():
                       ["physics.blocks=rigid", "numerics.subcontact_refine=3"],
                       ["physics.blocks=elastic", "numerics.cells=[4, 2, 2]", "geometry.bond_offset=0.25"], []):
         scene = load_scene(WILLIS, overrides)
-        a = build(scene).model.build()
-        size = model_size(scene)
+        a = build(scene).assembly
+        size = model_size(scene.geometry, scene.physics, scene.numerics, scene.loading)
         assert (size["nodes"], size["tetrahedra"], size["cells"]) == (
             a.nodes.x0.shape[0], a.zones.tets.shape[0], a.cells.nodes.shape[0]), overrides
         subs = a.joints.nodes.shape[0] + a.bearings.nodes.shape[0]
@@ -204,7 +205,9 @@ def test_anchors_aliases_and_merge_keys_within_limits_are_read(tmp_path):
     ks = "    ks_ratio: 0.4             # k_s = 0.4 k_n\n"
     text = TEXT.replace("    E: 15.0e9\n", "    E: &E 15.0e9\n").replace(
         ks, ks + "  per_unit: {E: [" + ", ".join(["*E"] * 24) + "]}\n")
-    assert load_scene(_scene(tmp_path, text))["materials"]["per_unit"]["E"] == [15.0e9] * 24
+    scene = read_scene(_scene(tmp_path, text))
+    validate_scene(scene)       # as load_scene: the mapping validated, its defaults filled in
+    assert scene["materials"]["per_unit"]["E"] == [15.0e9] * 24
     assert SCHEMA["properties"]["loading"]["properties"]["tension"]["properties"]["rate"]["default"] == 2.0e-9
 
 
@@ -212,21 +215,24 @@ def test_anchors_aliases_and_merge_keys_within_limits_are_read(tmp_path):
 def test_internal_error_writes_its_row_and_exits_3(tmp_path, monkeypatch, capsys):
     def boom(scene, progress=True):
         raise RuntimeError("boom")
-    monkeypatch.setattr(runner, "simulate", boom)
+    monkeypatch.setattr(protocol, "simulate", boom)
     assert cli.main(["run", WILLIS, "--out", str(tmp_path), "--quiet"]) == 3
     assert "RuntimeError: boom" in capsys.readouterr().err
     row = pd.read_parquet(tmp_path / "result.parquet").iloc[0]
     assert row["status"] == "error" and not row["ok"] and row["message"] == "RuntimeError: boom"
-    assert row["scene"] == "willis" and row["cells"] == "x".join(map(str, load_scene(WILLIS)["numerics"]["cells"]))
+    assert row["scene"] == "willis" and row["cells"] == "x".join(map(str, load_scene(WILLIS).numerics.cells))
     curve = pd.read_parquet(tmp_path / "curve.parquet")
-    assert len(curve) == 0 and list(curve.columns) == list(runner.CURVE_COLUMNS)
+    assert len(curve) == 0 and list(curve.columns) == list(results.CURVE_COLUMNS)
 
 
 def test_a_run_that_ends_not_ok_exits_1(tmp_path, monkeypatch, capsys):
     row = dict(status="max_steps", ok=False, message="reached 300 steps", P_max_kN=math.nan,
                disp_at_peak_mm=math.nan, strength_mpa=math.nan, classification="none", steps=300, wall_time_s=0.1)
-    curve = {c: [] for c in runner.CURVE_COLUMNS}
-    monkeypatch.setattr(runner, "simulate", lambda scene, progress=True: (dict(row), curve, None, None))
+    curve = {c: [] for c in results.CURVE_COLUMNS}
+    # the simulation stubbed: no Outcome, the row and curve made of it are the ones above
+    monkeypatch.setattr(protocol, "simulate", lambda scene, progress=True: None)
+    monkeypatch.setattr(results, "outcome_row", lambda outcome, **labels: results.Row(**row))
+    monkeypatch.setattr(results, "curve", lambda outcome: curve)
     assert cli.main(["run", WILLIS, "--out", str(tmp_path), "--quiet"]) == 1
     assert "ended not ok (max_steps)" in capsys.readouterr().err
     assert pd.read_parquet(tmp_path / "result.parquet").iloc[0]["status"] == "max_steps"

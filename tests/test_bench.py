@@ -24,7 +24,7 @@ def test_bench_runs_on_a_tiny_wallette(monkeypatch):
     monkeypatch.syspath_prepend(str(ROOT / "benchmarks"))
     from bench import MODELS, TINY
     sp = build(load_scene(str(ROOT / "config/scenes/willis.yaml"), MODELS["elasto-plastic"][1] + TINY))
-    a = sp.model.build()
+    a = sp.assembly
     assert r["tetrahedra"] == 4 * 10 == a.zones.tets.shape[0]
     assert r["subcontacts"] == a.joints.area.size
     for block in (r, r["brick_failure"]):

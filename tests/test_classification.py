@@ -2,15 +2,15 @@
 import math
 
 import pytest
+from runs import run_scene
 
-from masonrydem.runner import run_scene
 from masonrydem.scene import load_scene
 
 WILLIS = "config/scenes/willis.yaml"
 
 
 def _run(*overrides):
-    row, curve, sp, s = run_scene(load_scene(WILLIS, list(overrides)), progress=False)
+    row, curve, sp, s = run_scene(load_scene(WILLIS, list(overrides)))
     assert row["ok"], row["message"]
     return row
 
@@ -57,7 +57,7 @@ def test_stronger_joints_carry_more(brick_case, joint_case):
 
 def test_start_up_transient_does_not_stop_the_run():
     """A peak counts only near equilibrium and after the velocity ramp
-    (solver.History).  On a fine mesh (13x6x6 cells per unit) the stiff
+    (history.py).  On a fine mesh (13x6x6 cells per unit) the stiff
     strips first meet nearly motionless face nodes: during the 2,000-step
     ramp the load rises to kilonewtons at an unbalanced-force ratio above
     0.5 and wavers (measured before this rule: a 2.3 kN spike after 250
@@ -65,7 +65,7 @@ def test_start_up_transient_does_not_stop_the_run():
     drop, long before the real 13 kN peak).  After 1,000 steps, all within
     the ramp: no peak yet, and the run went on to its step limit."""
     row, curve, _, _ = run_scene(load_scene(WILLIS, ["numerics.cells=[13, 6, 6]",
-                                                     "loading.bending.max_steps=1000"]), progress=False)
+                                                     "loading.bending.max_steps=1000"]))
     dynamic = curve[curve["ratio"] > 0.5]
     assert dynamic["load_kN"].max() > 1.0                                 # the transient is there, dynamic
     assert math.isnan(row["P_max_kN"]) and row["post_peak"] == "none"     # ... it is not a peak

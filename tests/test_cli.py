@@ -45,7 +45,7 @@ def test_curve_keeps_the_peak(run_dir):
     curve = pd.read_parquet(run_dir / "curve.parquet")
     assert 10 <= len(curve) <= 410
     assert (curve["load_kN"] == row["P_max_kN"]).sum() == 1
-    from masonrydem.solver import PEAK_UNBALANCE
+    from masonrydem.history import PEAK_UNBALANCE
     assert (curve.loc[curve["load_kN"] > row["P_max_kN"], "unbalance"] >= PEAK_UNBALANCE).all()
     assert curve["displacement_mm"].is_monotonic_increasing
 

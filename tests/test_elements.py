@@ -7,10 +7,12 @@ import numpy as np
 import pytest
 from numba import njit
 
-from masonrydem import Elastic, Model, Solver
+from masonrydem import Elastic, Model
 from masonrydem.elements import cell_stiffness, elasticity
 from masonrydem.kernels import layout as L
 from masonrydem.kernels.zones import zone_forces
+from masonrydem.solver import init, max_rotation, prescribe
+from masonrydem.stops import Stops, run
 
 pytestmark = pytest.mark.verification
 
@@ -91,18 +93,19 @@ def test_linear_cells_run_as_a_model(element):
     m.fix(left)
     m.fix(right, dofs=[0], velocity=1e-7)
     m.add_monitor("pull", right, 0)
-    s = Solver(m)
-    assert s.zones.tets.shape[0] == 0 and s.assembly.cells.nodes.shape[0] == 4
-    s.run(1000)
-    s.vpres[:] = 0.0
-    assert s.run(200_000, ratio_tol=1e-10).status == "converged"
-    u = s.u[right, 0].mean()
-    assert s.last[L.h_force(0)] == pytest.approx(E * a * a * u / Lb, rel=1e-6)
+    state = init(m.build())
+    assert state.zones.tets.shape[0] == 0 and state.assembly.cells.nodes.shape[0] == 4
+    state, _, _ = run(state, 1000)
+    state = prescribe(state, slice(None), 0.0)
+    state, rec, end = run(state, 200_000, Stops(ratio_tol=1e-10))
+    assert end.status == "converged"
+    u = state.nodes.u[right, 0].mean()
+    assert rec.last.force[0, 0] == pytest.approx(E * a * a * u / Lb, rel=1e-6)
     m2 = Model()
     m2.add_box([0, 0, 0], [Lb, a, a], (4, 1, 1), Elastic(E=E, nu=0.2), element=element)
     th = 1e-3
     for nd, x in enumerate(m2.x0):
         m2.fix([nd], velocity=np.cross([0.0, 0.0, th], x) / 10)
-    s2 = Solver(m2)
-    s2.run(10)
-    assert s2.max_rotation() == pytest.approx(th, abs=1e-9)
+    state2 = init(m2.build())
+    state2, _, _ = run(state2, 10)
+    assert max_rotation(state2) == pytest.approx(th, abs=1e-9)

@@ -3,10 +3,12 @@ refused before any computation, the divergence guard."""
 import numpy as np
 import pytest
 
-from masonrydem import Elastic, InputError, JointProps, Model, MohrCoulomb, Solver
+from masonrydem import Elastic, InputError, JointProps, Model, MohrCoulomb
 from masonrydem import kernels as K
 from masonrydem.scene import validate_scene
+from masonrydem.solver import Controls, Numerics, init
 from masonrydem.specimen import build
+from masonrydem.stops import Stops, run
 
 JP = JointProps(kn=1e11, ks=4e10, ft=0.3e6, c=0.36e6, phi=35.0, GI=9.0, GII=90.0)
 
@@ -19,13 +21,12 @@ def test_wallette_joints_and_areas(cells):
     sub-contact areas sum to its overlap area exactly (1e-12), also where
     the meshes do not conform (3, 5 or 7 cells along a unit shifted by half a
     unit), and the total is 18 x 75 x 114 + 5 x 840 x 114 mm^2."""
-    m = build(validate_scene({"name": "t", "numerics": {"cells": list(cells)}})).model
-    b = m.build()
-    head = [c for c in m.contacts if c.axis == 0]
-    bed = [c for c in m.contacts if c.axis == 2]
+    b = build(validate_scene({"name": "t", "numerics": {"cells": list(cells)}})).assembly
+    head = [c for c in b.contacts if c.axis == 0]
+    bed = [c for c in b.contacts if c.axis == 2]
     assert len(head) == 18 and len(bed) == 35
     area = b.joints.area
-    for c in m.contacts:
+    for c in b.contacts:
         assert area[c.sc].sum() == pytest.approx(c.area, rel=1e-12)
     for c in head:
         assert c.area == pytest.approx(0.075 * 0.114, rel=1e-12)
@@ -54,9 +55,10 @@ def _two_block_compression(cells_low, refine):
     m.fix(base[np.argmin(np.linalg.norm(x[base] - [0.24, 0, 0], axis=1))], dofs=[1])
     p = 0.4e6
     m.add_pressure(2, 0.15, +1, ((-1, 1), (-1, 1)), p)
-    s = Solver(m)
-    assert s.run(300_000, ratio_tol=1e-11).status == "converged"
-    return np.abs(s.js[:, K.JS_SN] / -p - 1).max(), np.abs(s.stress[:, 2] / -p - 1).max()
+    state = init(m.build())
+    state, _, end = run(state, 300_000, Stops(ratio_tol=1e-11))
+    assert end.status == "converged"
+    return np.abs(state.joints.state[:, K.JS_SN] / -p - 1).max(), np.abs(state.zones.stress[:, 2] / -p - 1).max()
 
 
 def test_conforming_joint_transmits_uniform_compression_exactly():
@@ -107,7 +109,7 @@ def test_bad_joint_refused_at_build(props, field):
     m.add_box([0, 0, 0.1], [0.1, 0.1, 0.2], 1, Elastic(1e9, 0.2))
     m.set_joints("coupled_softening", props)
     with pytest.raises(InputError, match=rf"joints\[0\].*\.{field}"):
-        Solver(m)
+        init(m.build())
 
 
 def _dynamic_block():
@@ -120,10 +122,10 @@ def _dynamic_block():
 def test_time_step_above_critical_refused():
     """dt above the critical step 2 min sqrt(m/k) is refused at set-up;
     0.9 of it is accepted."""
-    crit = Solver(_dynamic_block(), mode="dynamic").dt_crit
+    crit = init(_dynamic_block().build(), Numerics(mode="dynamic")).integrator.dt_crit
     with pytest.raises(InputError, match="solver.dt"):
-        Solver(_dynamic_block(), mode="dynamic", dt=1.01 * crit)
-    assert Solver(_dynamic_block(), mode="dynamic", dt=0.9 * crit).dt == 0.9 * crit
+        init(_dynamic_block().build(), Numerics(mode="dynamic", dt=1.01 * crit))
+    assert init(_dynamic_block().build(), Numerics(mode="dynamic", dt=0.9 * crit)).integrator.dt == 0.9 * crit
 
 
 def test_divergence_guard_names_the_node():
@@ -133,9 +135,9 @@ def test_divergence_guard_names_the_node():
     m = _dynamic_block()
     top = m.select(lambda x: x[:, 2] > 0.1 - 1e-9)
     m.add_force(top, [0, 0, -100.0])
-    s = Solver(m, mode="dynamic")
-    s.dt = 3.0 * s.dt_crit
-    res = s.run(100_000)
+    state = init(m.build(), Numerics(mode="dynamic"))
+    state = state._replace(integrator=state.integrator._replace(dt=3.0 * state.integrator.dt_crit))
+    state, _, res = run(state, 100_000)
     assert res.status == "diverged"
     assert "node" in res.message and "block 0" in res.message
     assert res.steps < 100_000
@@ -148,12 +150,12 @@ def test_velocity_ramp_displacement():
     m = _dynamic_block()
     top = m.select(lambda x: x[:, 2] > 0.1 - 1e-9)
     m.fix(top, dofs=[2], velocity=1e-6)
-    s = Solver(m)
+    state = init(m.build())
     N, T = 300, 1000
-    s.run(T, ramp_steps=N)
-    assert s.u[top, 2] == pytest.approx(1e-6 * (T - N + (N + 1) / 2), rel=1e-12)
-    s.run(T)
-    assert s.u[top, 2] == pytest.approx(1e-6 * (2 * T - N + (N + 1) / 2), rel=1e-12)
+    state, _, _ = run(state, T, controls=Controls(ramp_steps=N))
+    assert state.nodes.u[top, 2] == pytest.approx(1e-6 * (T - N + (N + 1) / 2), rel=1e-12)
+    state, _, _ = run(state, T)
+    assert state.nodes.u[top, 2] == pytest.approx(1e-6 * (2 * T - N + (N + 1) / 2), rel=1e-12)
 
 
 def test_large_rotation_stops_the_run():
@@ -168,8 +170,8 @@ def test_large_rotation_stops_the_run():
     vel = omega * np.column_stack([-(x[:, 1] - 0.05), x[:, 0] - 0.05, 0 * x[:, 0]])
     for nd in range(x.shape[0]):
         m.fix([nd], dofs=(0, 1, 2), velocity=vel[nd])
-    s = Solver(m, chunk=10, rotation_limit=0.05)
-    res = s.run(100_000)
+    state = init(m.build(), Numerics(rotation_limit=0.05))
+    state, _, res = run(state, 100_000, chunk=10)
     assert res.status == "large_displacement"
     assert 0.05 < omega * res.steps <= 0.05 + omega * 200 + 1e-12
 
@@ -183,7 +185,7 @@ def test_strip_node_numbered_after_all_blocks():
     m.add_box([0.2, 0, 0], [0.3, 0.1, 0.1], 1, Elastic(1e9, 0.2))
     m.add_monitor("s", [strip], 2)
     b = m.build()
-    assert strip.node == 16 and b.n == 17
+    assert b.strip_nodes[strip.index] == 16 and b.n == 17
     assert np.all(b.bearings.nodes[:, 4] == 16)
     assert b.monitors.nodes.tolist() == [16]
     assert np.all(b.nodes.fixed[16] == 1) and np.all(b.nodes.fixed[8] == 0)
@@ -206,7 +208,7 @@ def test_joint_forces_gathered_per_node_add_what_a_scatter_adds():
     from numba import njit
 
     from masonrydem.kernels.joints import gather_forces
-    sc = build(validate_scene({"name": "t", "numerics": {"cells": [5, 2, 3]}})).model.build().joints
+    sc = build(validate_scene({"name": "t", "numerics": {"cells": [5, 2, 3]}})).assembly.joints
     rng = np.random.default_rng(1)
     force = rng.standard_normal(sc.force.shape)
     f0 = rng.standard_normal((sc.gptr.size - 1, 3))

@@ -129,7 +129,7 @@ def test_the_projects_config_plans_its_accuracy_study():
     assert {s for c, s in runs if c == "joint_sv0"} >= {"path_c17x8x6", "pc_c6x3x2_r121", "default", "rate_7.5e-08"}
     assert ("joint_sv05", "ratio_tol_1e-05") in runs and ("joint_sv0", "ratio_tol_1e-05") not in runs
     joint = load_scene(config["scene"], plan.accuracy_overrides(config, "joint_sv0", "path_c17x8x6"))
-    assert joint["loading"]["bending"]["rate"] == 2.5e-8 and joint["physics"]["blocks"] == "elasto-plastic"
+    assert joint.loading.drive.rate == 2.5e-8 and joint.physics.blocks == "elasto-plastic"
     o = plan.accuracy_overrides(config, "brick_sv0", "path_c17x8x6")
     assert "loading.bending.rate=1.25e-8" in o and "physics.blocks=elasto-plastic" in o
     assert o[-1] == "numerics.cells=[17, 8, 6]"

@@ -6,9 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from masonrydem import Elastic, InputError, JointProps, Model, Solver
+from masonrydem import Elastic, InputError, JointProps, Model
 from masonrydem import kernels as K
 from masonrydem.kernels.joints import joint_friction
+from masonrydem.solver import Numerics, init, max_rotation, prescribe_rotation
+from masonrydem.stops import Stops, run
 
 pytestmark = pytest.mark.verification
 
@@ -46,7 +48,7 @@ def test_rigid_model_has_no_zones_and_never_enters_the_zone_kernel():
     enters the zone kernel: given zones whose every value is NaN (on body
     0), the run is the same bit for bit (entering them would turn every
     force non-finite)."""
-    def run(poison):
+    def solve(poison):
         m, blk = _block_on_ground(0.1, 0.1, 0.05, 30.0, _tilted(0.0))
         a = m.build()
         assert a.rigid and a.zones.tets.shape[0] == 0
@@ -56,12 +58,13 @@ def test_rigid_model_has_no_zones_and_never_enters_the_zone_kernel():
                               wt=nan(5, np.nan), gptr=np.array([0, 5]), gnodes=np.zeros(8, np.int64),
                               gnptr=np.array([0, 8]), par=nan((5, K.N_ZP), np.nan), state=nan((5, K.N_ZS), np.nan),
                               stress=nan((5, 6), np.nan))
-        s = Solver(m)
-        assert poison or s.stress.shape[0] == 0
-        assert s.run(50_000, ratio_tol=1e-6).status == "converged"
-        return s
-    clean, poisoned = run(False), run(True)
-    assert np.isfinite(poisoned.u).all() and np.array_equal(clean.u, poisoned.u)
+        state = init(a)
+        assert poison or state.zones.stress.shape[0] == 0
+        state, _, end = run(state, 50_000, Stops(ratio_tol=1e-6))
+        assert end.status == "converged"
+        return state
+    clean, poisoned = solve(False), solve(True)
+    assert np.isfinite(poisoned.nodes.u).all() and np.array_equal(clean.nodes.u, poisoned.nodes.u)
     assert np.array_equal(clean.bodies.R, poisoned.bodies.R)
 
 
@@ -83,12 +86,13 @@ def test_rigid_block_resting_carries_its_weight():
     with the ground's contact force equal to its weight rho g V (1e-6)
     and no rotation."""
     m, blk = _block_on_ground(0.1, 0.1, 0.05, 30.0, [0.0, 0.0, -G])
-    s = Solver(m)
-    assert s.run(100_000, ratio_tol=1e-8).status == "converged"
+    a = m.build()
+    state, _, end = run(init(a), 100_000, Stops(ratio_tol=1e-8))
+    assert end.status == "converged"
     weight = RHO * 0.1 * 0.1 * 0.05 * G
-    normal = -float(np.sum(s.js[:, K.JS_SN] * m.build().joints.area))
+    normal = -float(np.sum(state.joints.state[:, K.JS_SN] * a.joints.area))
     assert normal == pytest.approx(weight, rel=1e-6)
-    assert s.max_rotation() < 1e-9
+    assert max_rotation(state) < 1e-9
 
 
 def test_rigid_block_on_incline_stable_below_phi():
@@ -96,10 +100,10 @@ def test_rigid_block_on_incline_stable_below_phi():
     the slope is of the order of the elastic shear estimate W sin(psi) /
     (k_s A), below 3 times it."""
     m, blk = _block_on_ground(0.1, 0.1, 0.05, 30.0, _tilted(25.0))
-    s = Solver(m)
-    assert s.run(200_000, ratio_tol=1e-6).status == "converged"
+    state, _, end = run(init(m.build()), 200_000, Stops(ratio_tol=1e-6))
+    assert end.status == "converged"
     weight = RHO * 0.1 * 0.1 * 0.05 * G
-    assert abs(s.u[blk.node0, 0]) < 3 * weight * math.sin(math.radians(25.0)) / (1e10 * 0.01)
+    assert abs(state.nodes.u[blk.node0, 0]) < 3 * weight * math.sin(math.radians(25.0)) / (1e10 * 0.01)
 
 
 def test_rigid_block_on_incline_slides_above_phi():
@@ -108,10 +112,11 @@ def test_rigid_block_on_incline_slides_above_phi():
     displacement over 0.1 s)."""
     psi, phi = 40.0, 30.0
     m, blk = _block_on_ground(0.1, 0.1, 0.05, phi, _tilted(psi))
-    s = Solver(m, mode="dynamic", safety=0.5)
-    s.run(int(0.1 / s.dt))
-    H = s.history.array()
-    acc = 2 * np.polyfit(H[:, 0] * s.dt, H[:, 4], 2)[0]
+    state = init(m.build(), Numerics(mode="dynamic", safety=0.5))
+    dt = state.integrator.dt
+    state, rec, _ = run(state, int(0.1 / dt))
+    H = rec.history
+    acc = 2 * np.polyfit(H.step * dt, H.disp[:, 0], 2)[0]
     exact = G * (math.sin(math.radians(psi)) - math.cos(math.radians(psi)) * math.tan(math.radians(phi)))
     assert acc == pytest.approx(exact, rel=0.02)
 
@@ -125,11 +130,11 @@ def test_rigid_block_topples_when_width_over_height_is_below_tan_slope(slenderne
     h = 0.2
     b = slenderness * h * math.tan(math.radians(30.0))
     m, blk = _block_on_ground(b, 0.1, h, 45.0, _tilted(30.0), large=True)
-    s = Solver(m, mode="dynamic", safety=0.5)
+    state = init(m.build(), Numerics(mode="dynamic", safety=0.5))
     rot = 0.0
     for _ in range(60):
-        s.run(int(0.01 / s.dt))
-        rot = max(rot, s.max_rotation())
+        state, _, _ = run(state, int(0.01 / state.integrator.dt))
+        rot = max(rot, max_rotation(state))
         if rot > 0.3:
             break
     assert (rot > 0.3) if topples else (rot < 0.01)
@@ -149,15 +154,16 @@ def test_rocking_block_pushover_follows_tan_alpha_minus_theta():
     m, blk = _block_on_ground(b, d, h, 45.0, [lam0 * G, 0.0, -G], large=True)
     rate = 1e-5                                    # rad per step, about +y: tips toward +x
     m.fix_rotation(blk)
-    s = Solver(m)
+    state = init(m.build())
     W, R, alpha = RHO * b * d * h * G, 0.5 * math.hypot(b, h), math.atan2(b, h)
     for theta in (0.05, 0.15, 0.3):
-        s.set_angular_velocity(blk, (0.0, rate, 0.0))
-        s.run(int(round((theta - s.max_rotation()) / rate)))
-        s.set_angular_velocity(blk, (0.0, 0.0, 0.0))
-        assert s.run(500_000, ratio_tol=1e-7).status == "converged"
-        assert s.max_rotation() == pytest.approx(theta, abs=1e-9)
-        C = -s.mom[blk.node0, 1]
+        state = prescribe_rotation(state, blk, (0.0, rate, 0.0))
+        state, _, _ = run(state, int(round((theta - max_rotation(state)) / rate)))
+        state = prescribe_rotation(state, blk, (0.0, 0.0, 0.0))
+        state, _, end = run(state, 500_000, Stops(ratio_tol=1e-7))
+        assert end.status == "converged"
+        assert max_rotation(state) == pytest.approx(theta, abs=1e-9)
+        C = -state.bodies.mom[blk.node0, 1]
         lam = lam0 + C / (W * R * math.cos(alpha - theta))
         print(f"theta {theta}: lambda {lam:.5f}, tan(alpha - theta) {math.tan(alpha - theta):.5f}")
         assert lam == pytest.approx(math.tan(alpha - theta), rel=0.01), theta
@@ -195,16 +201,18 @@ def test_rigid_column_under_gravity_has_joint_stress_rho_g_height_above():
         m.fix_rotation(base)
         if gravity:
             m.gravity = np.array([0.0, 0.0, -G])
-        s = Solver(m)
         b = m.build()
+        state = init(b)
         pts = b.joint_points
         if not gravity:
-            assert s.run(1000, ratio_tol=1e-8).status == "converged"
-            assert np.all(s.js[:, K.JS_SN] == 0.0)
+            state, _, end = run(state, 1000, Stops(ratio_tol=1e-8))
+            assert end.status == "converged"
+            assert np.all(state.joints.state[:, K.JS_SN] == 0.0)
             continue
-        assert s.run(200_000, ratio_tol=1e-9).status == "converged"
+        state, _, end = run(state, 200_000, Stops(ratio_tol=1e-9))
+        assert end.status == "converged"
         exact = -RHO * G * (0.5 - pts[:, 2])
-        np.testing.assert_allclose(s.js[:, K.JS_SN], exact, rtol=1e-6)
+        np.testing.assert_allclose(state.joints.state[:, K.JS_SN], exact, rtol=1e-6)
 
 
 def test_rigid_and_very_stiff_deformable_blocks_give_the_same_joint_stresses():
@@ -229,9 +237,10 @@ def test_rigid_and_very_stiff_deformable_blocks_give_the_same_joint_stresses():
             m.fix(np.arange(low.node0, low.node0 + low.n_nodes))
         m.add_pressure(2, 0.1, +1, ((0.0, 0.1), (0.0, 0.1)), 1e5)      # top face, x < 0.1 (plane axes: y, x)
         m.add_pressure(0, 0.0, -1, ((0.0, 0.1), (0.05, 0.1)), 2e4)     # the upper block's left face
-        s = Solver(m)
-        assert s.run(500_000, ratio_tol=1e-10).status == "converged"
-        return s.js[:, [K.JS_SN, K.JS_T1, K.JS_T2]].copy(), m.build().joint_points
+        a = m.build()
+        state, _, end = run(init(a), 500_000, Stops(ratio_tol=1e-10))
+        assert end.status == "converged"
+        return state.joints.state[:, [K.JS_SN, K.JS_T1, K.JS_T2]].copy(), a.joint_points
     (t_r, p_r), (t_d, p_d) = tractions(True), tractions(False)
     np.testing.assert_array_equal(p_r, p_d)
     scale = np.abs(t_r).max()

@@ -18,13 +18,13 @@ def test_willis_scene_is_the_study_specimen():
     k_s = 0.4 k_n, shear span a = 275 mm (elastic units: the joints without
     the potential-crack units' crack interfaces)."""
     sp = build(load_scene(WILLIS, ["physics.blocks=elastic"]))
-    x = sp.model.x0
+    x = sp.assembly.nodes.x0[sp.assembly.block_of_node >= 0]
     assert np.ptp(x, axis=0) == pytest.approx([1.080, 0.114, 0.450])
     assert len(sp.units) == 24 and len(sp.joints) == 38
-    kn = sp.model.build().joints.par[:, K.JP_KN]
+    kn = sp.assembly.joints.par[:, K.JP_KN]
     np.testing.assert_allclose(kn, 15e9 * 1.5e9 / (0.01 * 13.5e9))
     assert kn[0] == pytest.approx(166.7e9, rel=1e-3)
-    assert sp.shear_span == pytest.approx(0.275)
+    assert sp.scene.loading.bending.shear_span == pytest.approx(0.275)
 
 
 @pytest.mark.parametrize("override, field", [
@@ -52,7 +52,7 @@ def test_bad_scene_refused_naming_the_field(override, field):
 
 def test_overrides_parse_values():
     sc = load_scene(WILLIS, ["materials.units.E=12e9", "numerics.cells=[3, 1, 1]", "name=x"])
-    assert sc["materials"]["units"]["E"] == 12e9 and sc["numerics"]["cells"] == [3, 1, 1]
+    assert np.all(sc.materials.units.E == 12e9) and sc.numerics.cells == (3, 1, 1)
     with pytest.raises(InputError, match="--set"):
         load_scene(WILLIS, ["numerics.cells"])
 
@@ -67,10 +67,11 @@ def test_joint_numbering_and_per_joint_values():
     unit of courses 1-5; a bed plane touching two lower units is one joint.
     Per-joint f_tj reach exactly the sub-contacts of their joint."""
     ft = np.linspace(0.1e6, 0.8e6, 38)
-    sc = validate_scene({"name": "t", "materials": {"per_joint": {"ft": ft.tolist()}}})
+    sc = validate_scene({"name": "t", "materials": {"per_joint": {"ft": ft.tolist()},
+                                                    "joints": {"GI_per_ft": 3.0e-5}}})
     sp = build(sc)
-    m, par = sp.model, sp.model.build().joints.par
-    for c, j in zip(m.contacts, sp.contact_joint):
+    a, par = sp.assembly, sp.assembly.joints.par
+    for c, j in zip(a.contacts, sp.contact_joint):
         ua, ub = sp.units[sp.block_unit[c.block_a]], sp.units[sp.block_unit[c.block_b]]
         kind, unit = sp.joints[j]
         if kind == "head":
@@ -89,8 +90,8 @@ def test_joint_stiffness_follows_mean_unit_modulus():
     """A joint's k_n uses the mean E_b of the two units it connects."""
     E = np.where(np.arange(24) % 2, 10e9, 20e9)
     sp = build(validate_scene({"name": "t", "materials": {"per_unit": {"E": E.tolist()}}}))
-    par = sp.model.build().joints.par
-    for c in sp.model.contacts:
+    par = sp.assembly.joints.par
+    for c in sp.assembly.contacts:
         expected = joint_kn(0.5 * (E[c.block_a] + E[c.block_b]), 0.1, 0.01)
         np.testing.assert_allclose(par[c.sc, K.JP_KN], expected)
 
@@ -104,8 +105,8 @@ def test_rigid_units_refuse_a_final_state_and_build_without_zones():
     assert e.value.field == "outputs.state"
     rigid = build(load_scene(WILLIS, ["physics.blocks=rigid"]))
     full = build(load_scene(WILLIS, ["physics.blocks=elastic"]))
-    assert rigid.model.n_nodes == 24 and rigid.model.build().zones.tets.shape[0] == 0
-    assert len(rigid.model.contacts) == len(full.model.contacts)
+    assert int((rigid.assembly.block_of_node >= 0).sum()) == 24 and rigid.assembly.zones.tets.shape[0] == 0
+    assert len(rigid.assembly.contacts) == len(full.assembly.contacts)
     np.testing.assert_array_equal(rigid.contact_joint, full.contact_joint)
 
 
@@ -124,7 +125,7 @@ def test_precompression_force_and_where_it_acts(spreader):
     sigma = 0.5e6
     sp = build(load_scene(WILLIS, [f"loading.precompression.pressure={sigma}",
                                    f"loading.precompression.spreader={str(spreader).lower()}"]))
-    b = sp.model.build()
+    b = sp.assembly
     fz, x = b.nodes.fext[:, 2], b.nodes.x0[:, 0]
     assert fz.sum() == pytest.approx(-sigma * 0.960 * 0.114, rel=1e-12)
     assert np.sum(fz * x) / np.sum(fz) == pytest.approx(0.540 if spreader else 0.600, abs=1e-9)

@@ -2,10 +2,11 @@
 to the bed joints and the triplet shear test, against closed forms."""
 import math
 
+import numpy as np
 import pytest
+from runs import run_scene
 
 from masonrydem import InputError
-from masonrydem.runner import run_scene
 from masonrydem.masonry import joint_kn
 from masonrydem.scene import load_scene
 from masonrydem.validation import initial_stiffness
@@ -17,9 +18,14 @@ COARSE = ["numerics.cells=[2, 1, 1]"]
 
 def _section(scene):
     """Modelled unit length and the area of a head joint (height x width)."""
-    g = scene["geometry"]
-    t = g["joint_thickness"]
-    return g["unit"]["length"] + t, (g["unit"]["height"] + t) * g["unit"]["width"]
+    g = scene.geometry
+    t = g.joint_thickness
+    return g.unit_length + t, (g.unit_height + t) * g.unit_width
+
+
+def _wall(values):
+    """The one value of a property every unit (joint) has: the wall's."""
+    return np.unique(values).item()
 
 
 def test_stack_bonded_tension_matches_the_series_springs():
@@ -32,11 +38,11 @@ def test_stack_bonded_tension_matches_the_series_springs():
     at the peak (measured: +0.33 %, +0.17 %, +0.08 % at 4e-9, 2e-9 (the
     scene's rate), 1e-9 m per step)."""
     sc = load_scene(TENSION, COARSE + ["geometry.bond_offset=0.0", "geometry.courses=2"])
-    row, curve, _, _ = run_scene(sc, progress=False)
+    row, curve, _, _ = run_scene(sc)
     L, A = _section(sc)
-    n_c, n_u = sc["geometry"]["courses"], sc["geometry"]["units_per_course"]
-    E, ft = sc["materials"]["units"]["E"], sc["materials"]["joints"]["ft"]
-    kn = joint_kn(E, sc["materials"]["joints"]["Em_ratio"], sc["geometry"]["joint_thickness"])
+    n_c, n_u = sc.geometry.courses, sc.geometry.units_per_course
+    E, ft = _wall(sc.materials.units.E), _wall(sc.materials.joints.ft)
+    kn = joint_kn(E, sc.materials.joints.Em_ratio, sc.geometry.joint_thickness)
     K = n_c * A / (n_u * L / E + (n_u - 1) / kn)              # N/m
     assert row["ok"], row["message"]
     assert row["failure_mode"] == "joint"
@@ -57,11 +63,11 @@ def test_triplet_peak_is_the_coulomb_strength(blocks, overrides, peak_tol):
     """Peak shear stress P / 2A = c + sigma tan(phi)."""
     sc = load_scene(TRIPLET, COARSE + [f"physics.blocks={blocks}", "loading.triplet.max_displacement=1.0e-4"]
                     + overrides)
-    row, _, _, _ = run_scene(sc, progress=False)
-    j, sigma = sc["materials"]["joints"], sc["loading"]["precompression"]["pressure"]
+    row, _, _, _ = run_scene(sc)
+    j, sigma = sc.materials.joints, sc.loading.precompression.pressure
     assert row["status"] in ("displacement_limit", "load_drop"), row["message"]
-    assert row["strength_mpa"] * 1e6 == pytest.approx(j["c_ratio"] * j["ft"] + sigma * math.tan(math.radians(j["phi"])),
-                                                      rel=peak_tol)
+    assert row["strength_mpa"] * 1e6 == pytest.approx(
+        j.c_ratio * _wall(j.ft) + sigma * math.tan(math.radians(_wall(j.phi))), rel=peak_tol)
 
 
 def test_triplet_residual_is_friction():
@@ -70,14 +76,15 @@ def test_triplet_residual_is_friction():
     lag grows with the rate (measured at 1 mm: +0.85 % at 1e-8 m per
     step, +0.32 % at 4e-9, +0.02 % at the scene's 2e-9)."""
     sc = load_scene(TRIPLET, COARSE + ["loading.precompression.pressure=0.3e6"])
-    row, curve, _, _ = run_scene(sc, progress=False)
+    row, curve, _, _ = run_scene(sc)
     L, _ = _section(sc)
-    j, sigma = sc["materials"]["joints"], sc["loading"]["precompression"]["pressure"]
-    A = L * sc["geometry"]["unit"]["width"]
-    slip_softened = 2 * j["GII_ratio"] * j["GI"] / (j["c_ratio"] * j["ft"])
+    j, sigma = sc.materials.joints, sc.loading.precompression.pressure
+    A = L * sc.geometry.unit_width
+    slip_softened = 2 * j.GII_ratio * _wall(j.GI) / (j.c_ratio * _wall(j.ft))
     assert row["status"] == "displacement_limit", row["message"]
     assert curve["displacement_mm"].iloc[-1] * 1e-3 > 1.5 * slip_softened
-    assert curve["load_kN"].iloc[-1] * 1e3 == pytest.approx(2 * A * sigma * math.tan(math.radians(j["phi"])), rel=5e-3)
+    assert curve["load_kN"].iloc[-1] * 1e3 == pytest.approx(2 * A * sigma * math.tan(math.radians(_wall(j.phi))),
+                                                            rel=5e-3)
 
 
 def test_a_peak_within_the_velocity_ramp_is_flagged():
@@ -87,11 +94,11 @@ def test_a_peak_within_the_velocity_ramp_is_flagged():
     and the run must say so instead of reporting a later, lower load."""
     sc = load_scene(TRIPLET, COARSE + ["physics.blocks=rigid", "loading.triplet.rate=1.0e-8",
                                        "loading.triplet.ramp_steps=2000", "loading.triplet.max_displacement=1.0e-4"])
-    j, sigma = sc["materials"]["joints"], sc["loading"]["precompression"]["pressure"]
-    kn = joint_kn(sc["materials"]["units"]["E"], j["Em_ratio"], sc["geometry"]["joint_thickness"])
-    slip = (j["c_ratio"] * j["ft"] + sigma * math.tan(math.radians(j["phi"]))) / (j["ks_ratio"] * kn)
+    j, sigma = sc.materials.joints, sc.loading.precompression.pressure
+    kn = joint_kn(_wall(sc.materials.units.E), j.Em_ratio, sc.geometry.joint_thickness)
+    slip = (j.c_ratio * _wall(j.ft) + sigma * math.tan(math.radians(_wall(j.phi)))) / (j.ks_ratio * kn)
     assert slip < 0.5 * 2000 * 1.0e-8
-    row, _, _, _ = run_scene(sc, progress=False)
+    row, _, _, _ = run_scene(sc)
     assert row["status"] == "peak_in_ramp" and not row["ok"], row["message"]
 
 

@@ -5,12 +5,17 @@ import pytest
 from masonrydem import kernels as K
 from masonrydem.sampling import study_samples
 from masonrydem.masonry import joint_kn
-from masonrydem.scene import load_scene
 from masonrydem.specimen import build
 from masonrydem.study import study_scene
 
 # the source paper's elasto-plastic units, whose zones carry the unit's properties
-BASE = load_scene("config/scenes/willis.yaml", ["physics.blocks=elasto-plastic", "numerics.cells=[3, 1, 1]"])
+BASE = "config/scenes/willis.yaml"
+OVERRIDES = ["physics.blocks=elasto-plastic", "numerics.cells=[3, 1, 1]"]
+
+
+def _pressure(sigma_v):
+    """The precompression sigma_v (Pa) as an override."""
+    return f"loading.precompression.pressure={sigma_v!r}"
 
 
 def test_nonspatial_sample_reaches_every_zone_and_joint():
@@ -19,8 +24,8 @@ def test_nonspatial_sample_reaches_every_zone_and_joint():
     c_j = 1.2 f_tj, w_u = 2 G_I / f_t = 2 x 0.03e-3 m (G_I = 0.03 f_tj),
     s_u = 2 G_II / c = 2 x 10 x 0.03e-3 / 1.2 m, tan(phi_j), k_n(E_b)."""
     s = dict(sample=3, f_tj=0.25e6, f_tu=4.2e6, phi_j=33.0, E_b=12e9)
-    sp = build(study_scene(BASE, "nonspatial", s, 0.25e6))
-    b = sp.model.build()
+    sp = build(study_scene(BASE, OVERRIDES + [_pressure(0.25e6)], s, "nonspatial"))
+    b = sp.assembly
     zp, jp = b.zones.par, b.joints.par
     G = 12e9 / 2.4
     np.testing.assert_allclose(zp[:, K.ZP_G], G)
@@ -33,7 +38,7 @@ def test_nonspatial_sample_reaches_every_zone_and_joint():
     np.testing.assert_allclose(jp[:, K.JP_SU], 2 * 10 * 0.03e-3 / 1.2)
     np.testing.assert_allclose(jp[:, K.JP_TANPHI], np.tan(np.radians(33.0)))
     np.testing.assert_allclose(jp[:, K.JP_KN], joint_kn(12e9, 0.1, 0.01))
-    assert sp.scene["loading"]["precompression"]["pressure"] == 0.25e6
+    assert sp.scene.loading.precompression.pressure == 0.25e6
 
 
 def test_spatial_sample_per_unit_and_joint():
@@ -41,10 +46,10 @@ def test_spatial_sample_per_unit_and_joint():
     joint j's sub-contacts its own f_tj, phi_j and G_I(f_tj)."""
     _, spatial, _ = study_samples(2, seed=11)
     s = spatial.iloc[1]
-    sp = build(study_scene(BASE, "spatial", s, 0.0))
-    b = sp.model.build()
+    sp = build(study_scene(BASE, OVERRIDES + [_pressure(0.0)], s, "spatial"))
+    b = sp.assembly
     start = 0
-    for blk in sp.model.blocks:
+    for blk in b.blocks:
         n = blk.mesh.tets.shape[0]
         zp = b.zones.par[start:start + n]
         np.testing.assert_allclose(zp[:, K.ZP_FT], s["f_tu"][blk.id])
@@ -52,7 +57,7 @@ def test_spatial_sample_per_unit_and_joint():
         np.testing.assert_allclose(zp[:, K.ZP_G], s["E_b"][blk.id] / 2.4)
         start += n
     jp = b.joints.par
-    for c, j in zip(sp.model.contacts, sp.contact_joint):
+    for c, j in zip(b.contacts, sp.contact_joint):
         np.testing.assert_allclose(jp[c.sc, K.JP_FT], s["f_tj"][j])
         np.testing.assert_allclose(jp[c.sc, K.JP_WU], 2 * 0.03e-3)
         np.testing.assert_allclose(jp[c.sc, K.JP_TANPHI], np.tan(np.radians(s["phi_j"][j])))
@@ -60,4 +65,4 @@ def test_spatial_sample_per_unit_and_joint():
 
 def test_unknown_variant():
     with pytest.raises(ValueError):
-        study_scene(BASE, "mixed", dict(sample=0), 0.0)
+        study_scene(BASE, OVERRIDES + [_pressure(0.0)], dict(sample=0), "mixed")

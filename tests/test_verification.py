@@ -9,8 +9,10 @@ import numpy as np
 import pytest
 from scipy.spatial import Delaunay
 
-from masonrydem import Elastic, JointProps, Model, MohrCoulomb, Solver
+from masonrydem import Elastic, JointProps, Model, MohrCoulomb
 from masonrydem import kernels as K
+from masonrydem.solver import Numerics, init, prescribe
+from masonrydem.stops import Stops, run
 from specimens import block_nodes, pull_joint, shear_joint, work
 
 pytestmark = pytest.mark.verification
@@ -53,16 +55,16 @@ def test_patch_test_unstructured():
     steps = 100
     for nd in bnd:      # reach u = eps x in `steps` steps at constant velocity
         m.fix([nd], dofs=(0, 1, 2), velocity=eps @ x[nd] / steps)
-    s = Solver(m)
-    s.run(steps)
-    s.vpres[:] = 0.0
-    res = s.run(200_000, ratio_tol=1e-12)
+    state = init(m.build())
+    state, _, _ = run(state, steps)
+    state = prescribe(state, slice(None), 0.0)
+    state, _, res = run(state, 200_000, Stops(ratio_tol=1e-12))
     assert res.status == "converged"
     inner = np.flatnonzero(~on_boundary)
     assert inner.size > 10
-    np.testing.assert_allclose(s.u[inner], x[inner] @ eps.T, rtol=0, atol=1e-6 * np.abs(eps).max() * 0.2)
+    np.testing.assert_allclose(state.nodes.u[inner], x[inner] @ eps.T, rtol=0, atol=1e-6 * np.abs(eps).max() * 0.2)
     sig = _hooke(E, nu, eps)
-    for st in s.stress:
+    for st in state.zones.stress:
         np.testing.assert_allclose(_as_tensor(st), sig, rtol=0, atol=1e-6 * np.abs(sig).max())
 
 
@@ -78,12 +80,13 @@ def test_patch_test_mixed_discretization():
     bnd = np.flatnonzero(np.any(np.isclose(x, 0) | np.isclose(x, [0.3, 0.1, 0.2]), axis=1))
     for nd in bnd:
         m.fix([nd], dofs=(0, 1, 2), velocity=eps @ x[nd] / 50)
-    s = Solver(m)
-    s.run(50)
-    s.vpres[:] = 0.0
-    assert s.run(200_000, ratio_tol=1e-12).status == "converged"
+    state = init(m.build())
+    state, _, _ = run(state, 50)
+    state = prescribe(state, slice(None), 0.0)
+    state, _, end = run(state, 200_000, Stops(ratio_tol=1e-12))
+    assert end.status == "converged"
     sig = _hooke(E, nu, eps)
-    for st in s.stress:
+    for st in state.zones.stress:
         np.testing.assert_allclose(_as_tensor(st), sig, rtol=0, atol=1e-6 * np.abs(sig).max())
     assert blk.n_nodes == 4 * 3 * 3
 
@@ -105,9 +108,9 @@ def test_rigid_body_motion_no_stress(motion):
         vel = np.cross(omega, x - x.mean(axis=0))
     for nd in range(x.shape[0]):
         m.fix([nd], dofs=(0, 1, 2), velocity=vel[nd])
-    s = Solver(m)
-    s.run(1 if motion == "rotation" else 1000)
-    assert np.abs(s.stress).max() < 1e-6
+    state = init(m.build())
+    state, _, _ = run(state, 1 if motion == "rotation" else 1000)
+    assert np.abs(state.zones.stress).max() < 1e-6
 
 
 # --- elastic stack and cantilever ------------------------------------------------------
@@ -129,11 +132,11 @@ def test_elastic_stack_axial():
     m.add_pressure(2, H, +1, ((-1, 1), (-1, 1)), sigma)
     top = m.select(lambda x: x[:, 2] > H - 1e-9)
     m.add_monitor("top", top, 2)
-    s = Solver(m)
-    res = s.run(500_000, ratio_tol=1e-8)
+    state = init(m.build())
+    state, _, res = run(state, 500_000, Stops(ratio_tol=1e-8))
     assert res.status == "converged"
     expected = sigma * (H / E + 4 / kn)
-    assert -s.u[top, 2].mean() == pytest.approx(expected, rel=0.03)
+    assert -state.nodes.u[top, 2].mean() == pytest.approx(expected, rel=0.03)
 
 
 def test_cantilever_of_blocks():
@@ -163,13 +166,14 @@ def test_cantilever_of_blocks():
         tip = m.select(lambda x: x[:, 0] > L - 1e-9)
         P = 1000.0
         m.add_force(tip, [0, 0, -P / tip.size])
-        s = Solver(m, chunk=1000)
-        assert s.run(3_000_000, ratio_tol=1e-7).status == "converged"
+        state = init(m.build())
+        state, _, end = run(state, 3_000_000, Stops(ratio_tol=1e-7), chunk=1000)
+        assert end.status == "converged"
         I, A, G = b * d ** 3 / 12, b * d, E / (2 * (1 + nu))
         xj = np.array([a, 2 * a, 3 * a])
         exact = (P * L ** 3 / (3 * E * I) + P * L / (5 / 6 * G * A)
                  + np.sum(P * (L - xj) ** 2 / (kn * I)) + 3 * P / (0.4 * kn * A))
-        return -s.u[tip, 2].mean() / exact
+        return -state.nodes.u[tip, 2].mean() / exact
     r1, r2, r3 = (deflection(c) for c in ((4, 1, 2), (8, 2, 4), (16, 4, 8)))
     assert abs(r3 - 1) < abs(r2 - 1) < abs(r1 - 1)
     q = (r2 - r1) / (r3 - r2)
@@ -185,15 +189,15 @@ def test_joint_tension_peak_and_fracture_energy():
     to zero at w_u = 2 G_I / f_t.  Peak f_t A and dissipated energy
     G_I A (the work of the pull once the joint carries nothing) within 2 %;
     the initial slope is k_n A (1 %, the blocks being 1e4 times stiffer)."""
-    s, H, A = pull_joint(JOINT)
-    P, u = H[:, 3], H[:, 4]
+    state, H, A = pull_joint(JOINT)
+    P, u = H.force[:, 0], H.disp[:, 0]
     assert P.max() == pytest.approx(JOINT.ft * A, rel=0.02)
     assert abs(P[-1]) < 1e-6 * P.max()
     assert work(H) == pytest.approx(JOINT.GI * A, rel=0.02)
     early = (P > 0.1 * P.max()) & (P < 0.6 * P.max()) & (u < JOINT.ft / JOINT.kn)
     slope = np.polyfit(u[early], P[early], 1)[0]
     assert slope == pytest.approx(JOINT.kn * A, rel=0.01)
-    assert np.all(s.js[:, K.JS_D] == 1.0)
+    assert np.all(state.joints.state[:, K.JS_D] == 1.0)
 
 
 @pytest.mark.parametrize("sigma", [0.0, 0.2e6])
@@ -203,12 +207,12 @@ def test_joint_shear_peak_residual_energy(sigma):
     load is G_II A + sigma tan(phi) s_p A + tau_res^2/(2 k_s) A (friction
     work on the plastic slip s_p, and the elastic energy still stored),
     within 2 %; at sigma = 0 that is G_II A."""
-    s, H, A = shear_joint(JOINT, sigma, rate=1e-8)
-    P = H[:, 3]
+    state, H, A = shear_joint(JOINT, sigma, rate=1e-8)
+    P = H.force[:, 0]
     assert P.max() == pytest.approx((JOINT.c + sigma * TAN35) * A, rel=0.02)
     tau_res = sigma * TAN35
     assert P[-1] == pytest.approx(tau_res * A, rel=0.02, abs=1e-3 * JOINT.c * A)
-    sp = s.js[:, K.JS_SP].mean()
+    sp = state.joints.state[:, K.JS_SP].mean()
     expected = (JOINT.GII + tau_res * sp + tau_res ** 2 / (2 * JOINT.ks)) * A
     assert work(H) == pytest.approx(expected, rel=0.02)
 
@@ -235,11 +239,12 @@ def test_block_on_incline_stable_below_phi():
     (below 3 times it).  Local slip at the lightly loaded uphill edge (the
     tilted weight's overturning moment) is allowed."""
     m, blk = _incline(25.0, "static")
-    s = Solver(m)
-    assert s.run(200_000, ratio_tol=1e-6).status == "converged"
+    state = init(m.build())
+    state, _, end = run(state, 200_000, Stops(ratio_tol=1e-6))
+    assert end.status == "converged"
     weight = 2000.0 * 0.1 * 0.1 * 0.05 * 9.81
     elastic = weight * math.sin(math.radians(25.0)) / (1e10 * 0.01)
-    assert abs(s.u[block_nodes(m, blk), 0].mean()) < 3 * elastic
+    assert abs(state.nodes.u[block_nodes(m, blk), 0].mean()) < 3 * elastic
 
 
 def test_block_on_incline_slides_above_phi():
@@ -248,12 +253,12 @@ def test_block_on_incline_slides_above_phi():
     mean displacement over 0.1 s)."""
     psi, phi = 40.0, 30.0
     m, blk = _incline(psi, "dynamic", phi)
-    s = Solver(m, mode="dynamic", safety=0.5)
-    nsteps = int(0.1 / s.dt)
-    s.run(nsteps)
-    H = s.history.array()
-    t = H[:, 0] * s.dt
-    u = H[:, 4]
+    state = init(m.build(), Numerics(mode="dynamic", safety=0.5))
+    nsteps = int(0.1 / state.integrator.dt)
+    state, rec, _ = run(state, nsteps)
+    H = rec.history
+    t = H.step * state.integrator.dt
+    u = H.disp[:, 0]
     acc = 2 * np.polyfit(t, u, 2)[0]
     exact = 9.81 * (math.sin(math.radians(psi)) - math.cos(math.radians(psi)) * math.tan(math.radians(phi)))
     assert acc == pytest.approx(exact, rel=0.02)
@@ -279,10 +284,10 @@ def _zone_bar(nx, rate=2e-9):
     h = L / nx
     weak = np.abs(centroid - (0.5 * L + 0.5 * h) + 1e-12) < 0.5 * h
     b.zones.par[weak, K.ZP_FT] *= 0.98
-    s = Solver(m, record_every=1)
+    state = init(b)
     wu = 2 * mat.Gf / mat.ft
-    s.run(2_000_000, disp_limit=1.3 * wu, monitor="pull")
-    return s, s.history.array(), a * a
+    state, rec, _ = run(state, 2_000_000, Stops(disp_limit=1.3 * wu, monitor="pull"), record_every=1)
+    return state, rec.history, a * a
 
 
 def test_zone_bar_crack_band_energy_mesh_independent():
@@ -291,8 +296,8 @@ def test_zone_bar_crack_band_energy_mesh_independent():
     the bar (the crack band h = cell length along the crack normal)."""
     energies = []
     for nx in (5, 10, 20):
-        s, H, A = _zone_bar(nx)
-        P = H[:, 3]
+        state, H, A = _zone_bar(nx)
+        P = H.force[:, 0]
         assert P.max() == pytest.approx(0.98 * 2e6 * A, rel=0.02)
         assert abs(P[-1]) < 0.01 * P.max()
         energies.append(work(H))
@@ -305,7 +310,7 @@ def test_quasi_static_rate_independence():
     the peak and the dissipated energy by less than 1 %."""
     _, H1, _ = _zone_bar(10, rate=4e-9)
     _, H2, _ = _zone_bar(10, rate=2e-9)
-    assert H1[:, 3].max() == pytest.approx(H2[:, 3].max(), rel=0.01)
+    assert H1.force[:, 0].max() == pytest.approx(H2.force[:, 0].max(), rel=0.01)
     assert work(H1) == pytest.approx(work(H2), rel=0.01)
 
 
@@ -314,13 +319,13 @@ def test_brittle_coulomb_joint():
     k_n u up to f_t A (2 %), then nothing: the work of the pull is only the
     elastic energy f_t^2 / (2 k_n) A (5 %), far below G_I A of the softening
     law; sheared at zero normal stress it loses its cohesion at once."""
-    s, H, A = pull_joint(JOINT, law="brittle_coulomb")
-    assert H[:, 3].max() == pytest.approx(JOINT.ft * A, rel=0.02)
-    assert abs(H[-1, 3]) < 1e-9 * JOINT.ft * A
+    state, H, A = pull_joint(JOINT, law="brittle_coulomb")
+    assert H.force[:, 0].max() == pytest.approx(JOINT.ft * A, rel=0.02)
+    assert abs(H.force[-1, 0]) < 1e-9 * JOINT.ft * A
     assert work(H) == pytest.approx(JOINT.ft ** 2 / (2 * JOINT.kn) * A, rel=0.05)
-    s, H, A = shear_joint(JOINT, 0.0, rate=1e-8, law="brittle_coulomb", travel=1e-4)
-    assert H[:, 3].max() == pytest.approx(JOINT.c * A, rel=0.02)
-    assert abs(H[-1, 3]) < 1e-9 * JOINT.c * A
+    state, H, A = shear_joint(JOINT, 0.0, rate=1e-8, law="brittle_coulomb", travel=1e-4)
+    assert H.force[:, 0].max() == pytest.approx(JOINT.c * A, rel=0.02)
+    assert abs(H.force[-1, 0]) < 1e-9 * JOINT.c * A
 
 
 # --- gravity -------------------------------------------------------------------------
@@ -338,18 +343,19 @@ def test_column_under_gravity_has_stress_rho_g_height_above():
     m.fix(base[:1], dofs=[0, 1])
     m.fix(base[1:2], dofs=[1])
     m.gravity = np.array([0.0, 0.0, -g])
-    s = Solver(m)
-    assert s.run(400_000, ratio_tol=1e-7).status == "converged"
     b = m.build()
+    state = init(b)
+    state, _, end = run(state, 400_000, Stops(ratio_tol=1e-7))
+    assert end.status == "converged"
     zc = b.nodes.x0[b.zones.tets].mean(axis=1)[:, 2]
     cell = np.floor(zc / 0.1).astype(int)
     w = b.zones.vol * b.zones.wt
     for c in range(10):
         sel = cell == c
-        szz = np.sum(s.stress[sel, 2] * w[sel]) / np.sum(w[sel])
+        szz = np.sum(state.zones.stress[sel, 2] * w[sel]) / np.sum(w[sel])
         assert szz == pytest.approx(-rho * g * (H - 0.1 * (c + 0.5)), abs=0.01 * rho * g * H)
         for d in (0, 1):
-            assert abs(np.sum(s.stress[sel, d] * w[sel]) / np.sum(w[sel])) < 0.01 * rho * g * H
+            assert abs(np.sum(state.zones.stress[sel, d] * w[sel]) / np.sum(w[sel])) < 0.01 * rho * g * H
 
 
 def test_elastic_blocks_never_evaluate_a_yield_function():
@@ -372,9 +378,9 @@ def test_elastic_blocks_never_evaluate_a_yield_function():
         b.zones.par[:, K.ZP_FT] = 1.0
         b.zones.par[:, K.ZP_C] = 1e9
         b.zones.par[:, K.ZP_GF] = 1.0
-        s = Solver(m)
-        s.run(1000)
-        results[law] = (s.stress[:, 0].mean(), s.zs[:, K.ZS_EPT].max())
+        state = init(b)
+        state, _, _ = run(state, 1000)
+        results[law] = (state.zones.stress[:, 0].mean(), state.zones.state[:, K.ZS_EPT].max())
     sxx, ept = results[K.ZONE_ELASTIC]
     assert sxx == pytest.approx(1e9 * 1e-5 / 0.1, rel=0.05) and ept == 0.0
     assert results[K.ZONE_MOHR_COULOMB][1] > 0.0
@@ -397,9 +403,9 @@ def test_without_gravity_the_kernel_never_reads_the_gravity_masses():
         b = m.build()
         if poison:
             b.nodes.mgrav[:] = np.nan
-        s = Solver(m)
-        s.run(500)
-        return s
+        state = init(b)
+        state, _, _ = run(state, 500)
+        return state
     clean, poisoned = bar([0.0, 0.0, 0.0], False), bar([0.0, 0.0, 0.0], True)
-    assert np.isfinite(poisoned.u).all() and np.array_equal(clean.u, poisoned.u)
-    assert not np.isfinite(bar([0.0, 0.0, -9.81], True).u).all()
+    assert np.isfinite(poisoned.nodes.u).all() and np.array_equal(clean.nodes.u, poisoned.nodes.u)
+    assert not np.isfinite(bar([0.0, 0.0, -9.81], True).nodes.u).all()

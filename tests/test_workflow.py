@@ -42,8 +42,10 @@ def test_smoke_study_outputs(smoke):
     # of its own curve kept
     per_run = curves.groupby(["variant", "sigma_v_mpa", "sample"]).load_kN
     assert per_run.size().max() <= yaml.safe_load(open("config/config.yaml"))["study"]["curve_points"] + 1
-    for path in (smoke / "study" / "runs").glob("*/sv*/s*_curve.json"):
-        variant, sv, sample = path.parts[-3], float(path.parts[-2][2:]), int(path.name[1:].split("_")[0])
+    paths = list((smoke / "study" / "runs").glob("*/sv*/s*/curve.json"))
+    assert len(paths) == 32
+    for path in paths:
+        variant, sv, sample = path.parts[-4], float(path.parts[-3][2:]), int(path.parts[-2][1:])
         raw = json.loads(path.read_text())
         assert per_run.max()[(variant, sv, sample)] == np.float32(max(raw["load_kN"])), path
     # same samples at every level: the inputs of a sample do not depend on sigma_v
@@ -180,11 +182,11 @@ def test_full_study_plans_on_slurm(tmp_path):
 
 
 def test_a_simulation_that_raises_is_recorded(tmp_path):
-    """Nothing lost: a sample the scene refuses (f_tj < 0 makes G_I < 0)
-    still gives its job's row, with status 'error', ok False and the
-    refusal naming the field, the sample's inputs, and an empty curve (the
-    statistics exclude and count such rows: tests/test_analysis.py)."""
-    from masonrydem.runner import write_json
+    """Nothing lost: a sample the scene refuses (f_tj < 0) still gives its
+    job's row, with status 'error', ok False and the refusal naming the
+    field, the sample's inputs, and an empty curve (the statistics exclude
+    and count such rows: tests/test_analysis.py)."""
+    from masonrydem.results import write_json
     from masonrydem.sampling import records, study_samples
     smoke = yaml.safe_load(open("config/smoke.yaml"))["study"]
     root = tmp_path / "results"
@@ -192,16 +194,17 @@ def test_a_simulation_that_raises_is_recorded(tmp_path):
     nonspatial, _, _ = study_samples(smoke["n_samples"], smoke["seed"])
     nonspatial.loc[nonspatial["sample"] == 0, "f_tj"] = -1e5
     write_json(root / "study" / "samples_nonspatial.json", records(nonspatial))
-    target = root / "study" / "runs" / "nonspatial" / "sv0.0" / "s0.json"
+    target = root / "study" / "runs" / "nonspatial" / "sv0.0" / "s0" / "result.json"
     r = subprocess.run(SNAKEMAKE + [str(target), "--cores", "1", "--allowed-rules", "simulate", "--configfile",
                                     "config/smoke.yaml", "--config", f"results={root}"], capture_output=True, text=True)
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
     row = json.loads(target.read_text())
-    assert row["status"] == "error" and not row["ok"] and "materials.joints.GI" in row["message"]
+    assert row["status"] == "error" and not row["ok"] and "materials.joints.ft" in row["message"]
+    assert (row["variant"], row["sample"], row["sigma_v_mpa"]) == ("nonspatial", 0, 0.0)
     s0 = nonspatial.iloc[0]
     assert (row["f_tj_mpa"], row["f_tu_mpa"], row["E_b_mpa"], row["phi_j_deg"]) == (-0.1, s0.f_tu / 1e6, s0.E_b / 1e6,
                                                                                       s0.phi_j)
-    assert json.loads(target.with_name("s0_curve.json").read_text())["load_kN"] == []
+    assert json.loads(target.with_name("curve.json").read_text())["load_kN"] == []
 
 
 def test_lint_gives_only_the_software_advice(tmp_path):
@@ -217,34 +220,26 @@ def test_lint_gives_only_the_software_advice(tmp_path):
     assert all(f.startswith("* Specify a conda environment or container") for f in findings), findings
 
 
-def test_a_validation_or_accuracy_run_that_raises_is_recorded(tmp_path, monkeypatch):
-    """Nothing lost in the rules that run workflow/scripts/run.py either: a
-    run that raises (here the simulation itself, replaced by one that
-    raises) writes its row with status 'error' and the exception as its
-    message, and an empty curve; the job ends normally."""
-    import runpy
-    import sys
-    from types import SimpleNamespace
-
-    import pandas as pd
-
-    import masonrydem.runner
+def test_a_run_that_raises_is_recorded_as_the_workflow_runs_it(tmp_path, monkeypatch):
+    """Nothing lost in the rules that run the command line (validation,
+    hard cases, reduced models, specimens, accuracy: `masonrydem.cli run
+    ... --exit-zero`): a run that raises (here the simulation itself,
+    replaced by one that raises) writes its row with status 'error' and the
+    exception as its message, and an empty curve, and the job ends
+    normally (exit 0: its row is written)."""
+    import masonrydem.protocol
+    from masonrydem import cli
 
     def boom(scene, progress=True):
         raise RuntimeError("a failure inside the run")
 
-    monkeypatch.setattr(masonrydem.runner, "run_scene", boom)
-    monkeypatch.setattr(sys, "stdout", sys.stdout)
-    monkeypatch.setattr(sys, "stderr", sys.stderr)
+    monkeypatch.setattr(masonrydem.protocol, "simulate", boom)
     out = tmp_path / "runs" / "joint_sv0" / "default"
-    sm = SimpleNamespace(input=SimpleNamespace(scene="config/scenes/willis.yaml"),
-                         params=SimpleNamespace(overrides=["geometry.courses=2"]),
-                         output=SimpleNamespace(result=str(out / "result.parquet"), curve=str(out / "curve.parquet"),
-                                                keys=lambda: ["result", "curve"]),
-                         log=[str(tmp_path / "run.log")], wildcards=["joint_sv0", "default"], threads=1)
-    runpy.run_path("workflow/scripts/run.py", init_globals={"snakemake": sm})
+    code = cli.main(["run", "config/scenes/willis.yaml", "--set", "geometry.courses=2", "--set",
+                     "name=accuracy:joint_sv0:default", "--out", str(out), "--exit-zero", "--quiet"])
+    assert code == 0
     row = pd.read_parquet(out / "result.parquet").iloc[0]
     assert row["status"] == "error" and not row["ok"]
     assert row["message"] == "RuntimeError: a failure inside the run"
-    assert row["scene"] == "willis:joint_sv0:default"
+    assert row["scene"] == "accuracy:joint_sv0:default"
     assert pd.read_parquet(out / "curve.parquet").empty

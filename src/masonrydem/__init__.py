@@ -4,13 +4,12 @@ dynamic relaxation); docs/formulation.md describes it."""
 from .errors import InputError
 from .laws import Elastic, JointProps, MohrCoulomb
 from .model import Model
-from .solver import Solver
 
 __version__ = "0.1.0"
 
 # modules that do not decide what a simulation computes (the analysis of
-# results, figures, the workflow's planning, the command line)
-ANALYSIS_ONLY = ("accuracy.py", "analysis.py", "captions.py", "cli.py", "figures.py", "plan.py", "sampling.py",
+# results, figures, the workflow's planning)
+ANALYSIS_ONLY = ("accuracy.py", "analysis.py", "captions.py", "figures.py", "plan.py", "sampling.py",
                  "validation.py")
 
 
@@ -88,4 +87,4 @@ def source_hash():
     return value
 
 
-__all__ = ["Elastic", "InputError", "JointProps", "Model", "MohrCoulomb", "Solver", "__version__", "source_hash"]
+__all__ = ["Elastic", "InputError", "JointProps", "Model", "MohrCoulomb", "__version__", "source_hash"]

@@ -13,7 +13,6 @@ from sklearn.model_selection import GroupKFold
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
-from .masonry import bond_overlap, modelled_unit
 from .sampling import STUDY_VARIABLES
 
 INPUTS = ("f_tj_mpa", "f_tu_mpa", "phi_j_deg", "E_b_mpa")
@@ -272,8 +271,8 @@ def wallette_geometry(scene):
     """What the design rules need of the scene (m): the overlap l_o = bond
     offset x modelled unit length, the height h_b of a modelled unit (unit +
     joint) and the joints' c_ratio (c_j = c_ratio f_tj)."""
-    geo = scene["geometry"]
-    return dict(l_o=bond_overlap(geo), h_b=modelled_unit(geo)[2], c_ratio=scene["materials"]["joints"]["c_ratio"])
+    g, j = scene.geometry, scene.materials.joints
+    return dict(l_o=g.bond_overlap, h_b=g.modelled_unit[2], c_ratio=j.c_ratio)
 
 
 def design_table(fits, ns, resid_sd, levels, geometry):

@@ -43,10 +43,23 @@ class Assembly:
     inertia: np.ndarray           # (n, 3) rigid: principal moments of inertia
     h_min: float                  # smallest zone, cell or body size (the divergence guard)
     block_of_node: np.ndarray     # (n,) block of each node (-1: a strip)
+    blocks: tuple                 # blocks.Block, as the model added them
+    zone_ptr: np.ndarray          # (blocks + 1,) the zones of block b: zone_ptr[b]:zone_ptr[b + 1]
+    cell_ptr: np.ndarray          # (blocks + 1,) its linear cells: cell_ptr[b]:cell_ptr[b + 1]
+    strips: tuple                 # contacts.Strip
+    strip_nodes: np.ndarray       # (strips,) the node of each strip (after the block nodes)
+    monitor_names: tuple          # the name of each monitor group
+    gravity: np.ndarray           # (3,) m/s^2
 
     @property
     def n(self):
         return self.nodes.x0.shape[0]
+
+    def monitor(self, name):
+        """The group number of the monitor named ``name``."""
+        if name not in self.monitor_names:
+            raise InputError("monitor", f"no monitor named {name!r}")
+        return self.monitor_names.index(name)
 
 
 def assemble(model):
@@ -62,7 +75,21 @@ def assemble(model):
     x0 = np.zeros((nb + len(model.strips), 3))
     x0[:nb] = model.x0
     common = _common(model, x0)
-    return _rigid(model, x0, **common) if model.rigid else _deformable(model, x0, **common)
+    maps = _index_maps(model)
+    return _rigid(model, x0, maps, **common) if model.rigid else _deformable(model, x0, maps, **common)
+
+
+def _index_maps(model):
+    """What the assembly's users look up by block, strip or monitor: the
+    blocks, each block's zones and cells, the strips and their nodes, the
+    monitors' names, gravity."""
+    nz = [b.mesh.tets.shape[0] if b.element == "zones" and not b.rigid else 0 for b in model.blocks]
+    nc = [b.mesh.cells.shape[0] if b.element != "zones" and not b.rigid else 0 for b in model.blocks]
+    return dict(blocks=tuple(model.blocks), zone_ptr=np.concatenate([[0], np.cumsum(nz)]).astype(np.int64),
+                cell_ptr=np.concatenate([[0], np.cumsum(nc)]).astype(np.int64), strips=tuple(model.strips),
+                strip_nodes=model.n_nodes + np.arange(len(model.strips), dtype=np.int64),
+                monitor_names=tuple(name for name, _, _ in model.monitors),
+                gravity=np.asarray(model.gravity, float).copy())
 
 
 def _common(model, x0):
@@ -78,8 +105,6 @@ def _common(model, x0):
     strip_side = bearings.nodes[:, 4]
     bearings.nodes[:, 4] = np.where(strip_side < 0, nb - strip_side - 1, strip_side)
     joints, bearings = with_gather(joints, nn), with_gather(bearings, nn)
-    for i, s in enumerate(model.strips):
-        s.node = nb + i
     fixed = np.zeros((nn, 3), np.uint8)
     vpres = np.zeros((nn, 3))
     for nd, dd in model.fixities.items():
@@ -87,12 +112,12 @@ def _common(model, x0):
             fixed[nd, dof] = 1
             vpres[nd, dof] = vv
     for s in model.strips:
-        x0[s.node] = s.x0
-        fixed[s.node] = 1
-        vpres[s.node] = s.velocity
+        x0[nb + s.index] = s.x0
+        fixed[nb + s.index] = 1
+        vpres[nb + s.index] = s.velocity
     mon_nodes, mon_dir, mon_grp = [], [], []
     for g, (_, items, d) in enumerate(model.monitors):
-        nodes = [it.node if isinstance(it, Strip) else int(it) for it in items]
+        nodes = [nb + it.index if isinstance(it, Strip) else int(it) for it in items]
         mon_nodes.extend(nodes)
         mon_dir.extend([d] * len(nodes))
         mon_grp.extend([g] * len(nodes))
@@ -109,7 +134,7 @@ def _nodes(x0, mphys, fixed, vpres, fext):
                    mgrav=mphys, fixed=fixed, vpres=vpres, fext=fext)
 
 
-def _deformable(model, x0, jlaw, joints, bearings, joint_points, bearing_points, contacts, fixed, vpres, monitors):
+def _deformable(model, x0, maps, jlaw, joints, bearings, joint_points, bearing_points, contacts, fixed, vpres, monitors):
     """Zones of the blocks meshed into zones, cells of the blocks computed
     as linear cells, nodal masses for gravity (a quarter of each
     tetrahedron's weighted mass, an eighth of each cell's), the nodes'
@@ -142,7 +167,7 @@ def _deformable(model, x0, jlaw, joints, bearings, joint_points, bearing_points,
         joint_points=joint_points, bearing_points=bearing_points, contacts=contacts, stiffness=stiff,
         rot_stiffness=np.zeros(0), inertia=np.zeros((0, 3)), h_min=float(np.min(np.concatenate(sizes))),
         block_of_node=np.concatenate([np.full(b.n_nodes, b.id) for b in model.blocks]
-                                     + [np.full(len(model.strips), -1)]))
+                                     + [np.full(len(model.strips), -1)]), **maps)
 
 
 def _zones(blocks, x0):
@@ -205,7 +230,7 @@ def _with_levers(sc, points, x0):
     return sc._replace(body=body, lever=points[:, None, :] - x0[body])
 
 
-def _rigid(model, x0, jlaw, joints, bearings, joint_points, bearing_points, contacts, fixed, vpres, monitors):
+def _rigid(model, x0, maps, jlaw, joints, bearings, joint_points, bearing_points, contacts, fixed, vpres, monitors):
     """Per body (the blocks, then the strips) its mass and principal
     inertia (a box: m (b^2 + c^2) / 12 about each axis), lever scale (half
     its diagonal) and the Gershgorin bounds of its translational and
@@ -246,4 +271,4 @@ def _rigid(model, x0, jlaw, joints, bearings, joint_points, bearing_points, cont
         bearing_points=bearing_points, contacts=contacts,
         stiffness=np.repeat(kt[:, None], 3, axis=1), rot_stiffness=kr, inertia=inertia,
         h_min=float(np.min(rlen)),
-        block_of_node=np.concatenate([np.arange(nb), np.full(len(model.strips), -1)]))
+        block_of_node=np.concatenate([np.arange(nb), np.full(len(model.strips), -1)]), **maps)

@@ -13,46 +13,47 @@ broken when its area-weighted mean damage reaches ``broken_joint_damage``.
 import numpy as np
 
 from . import kernels as K
+from .solver import zone_damage
 
 
-def _zone_blocks(specimen):
-    return [blk for blk in specimen.model.blocks if blk.element == "zones"]
+def _zone_blocks(assembly):
+    """(block number, block) of the blocks meshed into zones."""
+    return [(b, blk) for b, blk in enumerate(assembly.blocks) if blk.element == "zones"]
 
 
-def cell_damage(specimen, solver):
-    """Per unit: array (nx, ny, nz) of cell damage (volume-weighted mean
-    tensile damage of the cell's 10 tetrahedra) and the cell volumes; none
-    for rigid units (they cannot crack)."""
-    if specimen.model.rigid:
+def cell_damage(specimen, state):
+    """Per zone block: array (nx, ny, nz) of cell damage (volume-weighted
+    mean tensile damage of the cell's 10 tetrahedra) and the cell volumes;
+    none for rigid units (they cannot crack)."""
+    a = specimen.assembly
+    if a.rigid:
         return []
-    z = solver.zones
-    d = solver.zone_damage()
+    z = state.zones
+    d = zone_damage(state)
     wv = z.vol * z.wt
     out = []
-    start = 0
-    for blk in _zone_blocks(specimen):
-        nt = blk.mesh.tets.shape[0]
+    for b, blk in _zone_blocks(a):
+        s, e = a.zone_ptr[b], a.zone_ptr[b + 1]
         nx, ny, nz = blk.cells
-        w = wv[start:start + nt].reshape(-1, 10)
-        dc = (d[start:start + nt].reshape(-1, 10) * w).sum(axis=1) / w.sum(axis=1)
+        w = wv[s:e].reshape(-1, 10)
+        dc = (d[s:e].reshape(-1, 10) * w).sum(axis=1) / w.sum(axis=1)
         out.append((dc.reshape((nx, ny, nz), order="F"), w.sum(axis=1).reshape((nx, ny, nz), order="F")))
-        start += nt
     return out
 
 
-def joint_damage(specimen, solver):
+def joint_damage(specimen, state):
     """Area-weighted mean damage D of each joint (contact plane)."""
-    area = solver.joints.area
-    D = solver.js[:, K.JS_D]
+    area = state.joints.area
+    D = state.joints.state[:, K.JS_D]
     num = np.zeros(len(specimen.joints))
     den = np.zeros(len(specimen.joints))
-    for c, j in zip(specimen.model.contacts, specimen.contact_joint):
+    for c, j in zip(specimen.assembly.contacts, specimen.contact_joint):
         num[j] += np.sum(D[c.sc] * area[c.sc])
         den[j] += np.sum(area[c.sc])
     return num / np.where(den > 0, den, 1.0)
 
 
-def crack_fractions(specimen, solver, crack_damage):
+def crack_fractions(specimen, state, crack_damage):
     """Per unit, the largest cracked share of a section through it, and the
     cracked and total measure (volume of zones, or area of crack
     interfaces).  Elasto-plastic units: the cracked share of a layer of
@@ -65,12 +66,12 @@ def crack_fractions(specimen, solver, crack_damage):
     elastic units cannot crack."""
     n = len(specimen.units)
     fractions = np.zeros(n)
-    if specimen.model.rigid:
+    if specimen.assembly.rigid:
         return fractions, 0.0, 0.0
     if ("crack", specimen.units[0]) in specimen.joints:
-        area, D = solver.joints.area, solver.js[:, K.JS_D]
+        area, D = state.joints.area, state.joints.state[:, K.JS_D]
         cracked, total = np.zeros(n), np.zeros(n)
-        for c, j in zip(specimen.model.contacts, specimen.contact_joint):
+        for c, j in zip(specimen.assembly.contacts, specimen.contact_joint):
             kind, unit = specimen.joints[j]
             if kind == "crack":
                 u = specimen.units.index(unit)
@@ -78,7 +79,7 @@ def crack_fractions(specimen, solver, crack_damage):
                 total[u] += np.sum(area[c.sc])
         return cracked / total, float(cracked.sum()), float(total.sum())
     cracked_vol = total_vol = 0.0
-    for blk, (dc, vol) in zip(_zone_blocks(specimen), cell_damage(specimen, solver)):
+    for (_, blk), (dc, vol) in zip(_zone_blocks(specimen.assembly), cell_damage(specimen, state)):
         cracked = dc >= crack_damage
         cracked_vol += vol[cracked].sum()
         total_vol += vol.sum()
@@ -88,17 +89,17 @@ def crack_fractions(specimen, solver, crack_damage):
     return fractions, cracked_vol, total_vol
 
 
-def classify(specimen, solver, crack_damage=0.5, crack_through=0.5, broken_joint_damage=0.5):
+def classify(specimen, state, crack_damage=0.5, crack_through=0.5, broken_joint_damage=0.5):
     """Returns a dict: failure_mode ('brick' or 'joint'), the evidence
     columns and a one-line explanation."""
-    fractions, cracked, total = crack_fractions(specimen, solver, crack_damage)
+    fractions, cracked, total = crack_fractions(specimen, state, crack_damage)
     through = np.flatnonzero(fractions >= crack_through)
     mortar = np.array([kind != "crack" for kind, _ in specimen.joints])
-    jd = joint_damage(specimen, solver)[mortar]
+    jd = joint_damage(specimen, state)[mortar]
     broken = np.flatnonzero(jd >= broken_joint_damage)
     mode = "brick" if through.size else "joint"
     what = "its crack interface" if not mortar.all() else "a layer of cells"
-    if specimen.model.rigid:
+    if specimen.assembly.rigid:
         why = "joint failure: the units are rigid (they cannot crack)"
     elif through.size:
         why = (f"brick failure: unit(s) {', '.join(str(u + 1) for u in through)} cracked through "

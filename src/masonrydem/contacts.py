@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import kernels as K
-from .blocks import GEOM_TOL, face_point, face_quadrature, face_refine, local_axes, refine_axes
+from .blocks import GEOM_TOL, check_3, face_point, face_quadrature, face_refine, local_axes, refine_axes
 from .errors import InputError
 from .laws import JointProps
 
@@ -37,7 +37,7 @@ class Strip:
     area: float
     x0: np.ndarray        # its node's position: the centre of its rectangle
     velocity: np.ndarray
-    node: int = -1        # global node (numbered by the assembly, after the block nodes)
+    index: int            # its number among the strips: its node is Assembly.strip_nodes[index]
 
 
 @dataclass
@@ -166,3 +166,31 @@ def faces_on_plane(blocks, axis, coord, normal, rect):
         if min(r[0][1] - r[0][0], r[1][1] - r[1][0]) > GEOM_TOL:
             out.append((b, side, r))
     return out
+
+
+def bearing_strip(sc, blocks, index, name, axis, coord, normal, rect, kn, velocity, refine):
+    """Strip number ``index`` (``Model.add_strip``): its bearing sub-contacts,
+    added to ``sc``, at the points of the composite Simpson rule on the
+    faces of ``blocks`` that it covers (refined ``refine`` per global axis),
+    side B the strip (-(index + 1) until the assembly numbers its node)."""
+    where = f"strips.{name}"
+    if kn is None or not np.isfinite(kn) or kn <= 0:
+        raise InputError(f"{where}.kn", f"must be a positive stiffness, got {kn!r}")
+    velocity = check_3(f"{where}.velocity", velocity)
+    row = np.zeros(K.N_JP)
+    row[K.JP_KN] = kn
+    axes = local_axes(axis, float(normal))
+    points = []
+    for b, side, r in faces_on_plane(blocks, axis, coord, normal, rect):
+        points += [(b.interpolate(axis, side, pp, qq), ar, face_point(axis, coord, pp, qq))
+                   for pp, qq, ar in zip(*face_quadrature(r, zip(b.face_grid(axis)), face_refine(refine, axis)))]
+    if not points:
+        raise InputError(f"{where}.rect", "the strip touches no block face")
+    start = len(sc)
+    for (na, wa), ar, pt in points:
+        sc.add(na, wa, [-(index + 1)], [1.0], axes, ar, row, pt)
+    p, q = (axis + 1) % 3, (axis + 2) % 3
+    x0 = np.zeros(3)
+    x0[axis], x0[p], x0[q] = coord, np.mean(rect[0]), np.mean(rect[1])
+    return Strip(name, axis, int(normal), float(kn), slice(start, len(sc)), float(sum(p[1] for p in points)), x0,
+                 velocity, index)

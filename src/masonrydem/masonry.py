@@ -1,17 +1,180 @@
-"""Masonry rules shared by the scenes, the study and its analysis: the
-modelled unit, the running bond, the joint stiffness from the unit's
-modulus, the fracture-energy rules and the flexural strength.
+"""Masonry rules shared by the scenes, the study and its analysis, each
+written once: the running-bond wall (``Geometry``), the dependent
+material properties (``unit_fields``, ``joint_fields``), the joint
+stiffness from the units' modulus and the flexural strength
+(docs/study.md, 1-3).
 
-These are the rules of the study's description (docs/study.md, 3),
-written once here so that the specimen builder, the sampled scenes and the
-regression all use the same numbers.
+Both variants of the study go through the same rules: a property given
+once for the wall is a field with one value everywhere.
 """
+from dataclasses import dataclass
+
 import numpy as np
 
 # G_I (N/m) per f_tj (Pa): 0.03 N/mm per MPa
 GI_PER_FT = 0.03 * 1e3 / 1e6
 # G_fu = 0.04 f_tu^0.7 (N/mm with f_tu in MPa)
 GF_COEFFICIENT, GF_EXPONENT = 0.04, 0.7
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """A running-bond wall of ``courses`` x ``units_per_course`` units
+    (brick sizes without mortar, m); every second course shifted by
+    ``bond_offset`` of the modelled unit's length.  The modelled unit is the
+    brick plus half a joint on each side in length and height (simplified
+    micro-model; no joint through the thickness)."""
+    unit_length: float
+    unit_height: float
+    unit_width: float
+    joint_thickness: float
+    courses: int
+    units_per_course: int
+    bond_offset: float
+
+    @property
+    def modelled_unit(self):
+        """(length, width, height) of the modelled unit."""
+        t = self.joint_thickness
+        return self.unit_length + t, self.unit_width, self.unit_height + t
+
+    @property
+    def n_units(self):
+        return self.courses * self.units_per_course
+
+    @property
+    def joints(self):
+        """The joints as contact planes (``running_bond_joints``)."""
+        return running_bond_joints(self.courses, self.units_per_course)
+
+    @property
+    def bond_overlap(self):
+        """l_o: the overlap of units in successive courses."""
+        return self.bond_offset * self.modelled_unit[0]
+
+    @property
+    def height(self):
+        return self.courses * self.modelled_unit[2]
+
+    @property
+    def length(self):
+        """Overall length of the wall (the courses together)."""
+        return self.modelled_unit[0] * (self.units_per_course + (self.bond_offset if self.courses > 1 else 0))
+
+    def course_span(self, k):
+        """x-range of course k (odd courses shifted by the bond offset)."""
+        L = self.modelled_unit[0]
+        x0 = self.bond_offset * L if k % 2 else 0.0
+        return x0, x0 + self.units_per_course * L
+
+    def crack_plane(self, k):
+        """Where a line crack crosses a unit of course k: the distance from
+        its left end of the plane in line with the head joints of the
+        courses above and below (b L in courses shifted by the bond offset
+        b L against the course below, (1 - b) L in the others; L / 2 for
+        half bond, and in stack bond, where no head joint crosses a unit)."""
+        L = self.modelled_unit[0]
+        b = self.bond_offset
+        if not 0.0 < b < 1.0:       # stack bond: the head joints line up; a unit cracks at mid-length
+            return 0.5 * L
+        return (1.0 - b) * L if k % 2 else b * L
+
+    def crack_band_error(self, cells_along):
+        """Why a unit mesh with ``cells_along`` cells along the unit's
+        length cannot carry a crack through the unit where it runs, or None.
+
+        In running bond a line crack through a unit follows the plane in
+        line with the head joints of the courses above and below: at the
+        bond offset b L from the unit's end.  The crack band (the zones
+        that soften) must be able to sit on that plane: a cell must be
+        centred on it, b n - 1/2 an integer for n cells (for b = 1/2: n
+        odd).  When a node plane lies there instead, the band has to sit
+        beside it and jog by half a cell at every bed joint, and the
+        capacity converges slowly from above (docs/accuracy.md)."""
+        b = self.bond_offset
+        if self.courses < 2 or b <= 0.0 or b >= 1.0:
+            return None
+        k = b * cells_along - 0.5
+        if abs(k - round(k)) < 1e-9:
+            return None
+        need = "an odd number" if abs(b - 0.5) < 1e-12 else f"n with {b:g} n - 1/2 an integer"
+        return (f"a unit's crack plane (in line with the head joints of the next courses, {b:g} of its length "
+                f"from its end) must fall in the middle of a cell, not on a node plane: use {need} of cells "
+                f"along the unit, got {cells_along}")
+
+
+def running_bond_joints(courses, per_course):
+    """Joints numbered as contact planes: the head joints course by course
+    (per_course - 1 per course), then one bed-joint plane under each unit
+    of courses 1.. (a plane may touch one or two units below).  Returns a
+    list of (kind, unit) with unit = (course, index) of the unit to the
+    left of a head joint or above a bed plane."""
+    head = [("head", (k, i)) for k in range(courses) for i in range(per_course - 1)]
+    bed = [("bed", (k, i)) for k in range(1, courses) for i in range(per_course)]
+    return head + bed
+
+
+def _frozen(values):
+    a = np.array(values, float)
+    a.flags.writeable = False
+    return a
+
+
+@dataclass(frozen=True)
+class UnitFields:
+    """The units' properties, one value per unit (read-only arrays):
+    E (Pa), ft (Pa), c = c_ratio ft (Pa), Gf (N/m); and those the wall
+    shares: nu, phi (deg), density (kg/m^3), crack_kn_ratio."""
+    E: np.ndarray
+    ft: np.ndarray
+    c: np.ndarray
+    Gf: np.ndarray
+    nu: float
+    phi: float
+    density: float
+    crack_kn_ratio: float
+
+
+@dataclass(frozen=True)
+class JointFields:
+    """The mortar joints' properties, one value per joint (read-only
+    arrays): ft, c = c_ratio ft (Pa), phi (deg), G_I and G_II = GII_ratio
+    G_I (N/m); the rules' ratios (GII_ratio also serves the units' crack
+    interfaces) and the stiffness rules the wall shares (``joint_kn``):
+    Em_ratio, ks_ratio."""
+    ft: np.ndarray
+    c: np.ndarray
+    phi: np.ndarray
+    GI: np.ndarray
+    GII: np.ndarray
+    c_ratio: float
+    Em_ratio: float
+    ks_ratio: float
+    GII_ratio: float
+
+
+def unit_fields(E, ft, nu, c_ratio, phi, Gf, density, crack_kn_ratio, gf_rule=None):
+    """The units' fields from their E and ft (one value per unit) by the
+    rules c_u = c_ratio f_tu and, with ``gf_rule`` = (coefficient,
+    exponent), G_fu = coefficient f_tu^exponent (``unit_fracture_energy``);
+    without it G_fu = ``Gf`` for every unit."""
+    ft = _frozen(ft)
+    if gf_rule is None:
+        gf = np.full(ft.size, float(Gf))
+    else:   # unit by unit: a scalar power, as every unit has always had it
+        gf = [float(unit_fracture_energy(f, *gf_rule)) for f in ft]
+    return UnitFields(E=_frozen(E), ft=ft, c=_frozen(c_ratio * ft), Gf=_frozen(gf), nu=float(nu), phi=float(phi),
+                      density=float(density), crack_kn_ratio=float(crack_kn_ratio))
+
+
+def joint_fields(ft, phi, c_ratio, GI, GII_ratio, Em_ratio, ks_ratio, gi_per_ft=None):
+    """The joints' fields from their ft and phi (one value per joint) by
+    the rules c_j = c_ratio f_tj, G_II = GII_ratio G_I and, with
+    ``gi_per_ft``, G_I = gi_per_ft f_tj; without it G_I = ``GI``."""
+    ft = _frozen(ft)
+    gi = _frozen(gi_per_ft * ft if gi_per_ft is not None else np.full(ft.size, float(GI)))
+    return JointFields(ft=ft, c=_frozen(c_ratio * ft), phi=_frozen(phi), GI=gi, GII=_frozen(GII_ratio * gi),
+                       c_ratio=float(c_ratio), Em_ratio=float(Em_ratio), ks_ratio=float(ks_ratio), GII_ratio=float(GII_ratio))
 
 
 def unit_fracture_energy(f_tu, coefficient=GF_COEFFICIENT, exponent=GF_EXPONENT):
@@ -28,78 +191,18 @@ def joint_kn(E_b, Em_ratio, t):
     return E_b * E_m / (t * (E_b - E_m))
 
 
-def modelled_unit(geometry):
-    """Modelled unit (brick + half a joint on each side in length and
-    height; no joint through the thickness): (length, width, height)."""
-    u, t = geometry["unit"], geometry["joint_thickness"]
-    return u["length"] + t, u["width"], u["height"] + t
+def joint_stiffness(E_a, E_b, joints, t):
+    """(k_n, k_s) of a mortar joint between units of moduli E_a and E_b:
+    ``joint_kn`` of their mean, k_s = ks_ratio k_n."""
+    kn = joint_kn(0.5 * (E_a + E_b), joints.Em_ratio, t)
+    return kn, joints.ks_ratio * kn
 
 
-def bond_overlap(geometry):
-    """l_o: the overlap of units in successive courses (bond offset x the
-    modelled unit's length)."""
-    return geometry["bond_offset"] * modelled_unit(geometry)[0]
-
-
-def course_span(geometry, k):
-    """x-range of course k (odd courses shifted by the bond offset)."""
-    L = modelled_unit(geometry)[0]
-    x0 = geometry["bond_offset"] * L if k % 2 else 0.0
-    return x0, x0 + geometry["units_per_course"] * L
-
-
-def wall_length(geometry):
-    """Overall length of the running-bond wall (the courses together)."""
-    L = modelled_unit(geometry)[0]
-    return L * (geometry["units_per_course"] + (geometry["bond_offset"] if geometry["courses"] > 1 else 0))
-
-
-def crack_band_error(geometry, cells_along):
-    """Why a unit mesh with ``cells_along`` cells along the unit's length
-    cannot carry a crack through the unit where it runs, or None.
-
-    In running bond a line crack through a unit follows the plane in line
-    with the head joints of the courses above and below: at the bond
-    offset b L from the unit's end.  The crack band (the zones that soften)
-    must be able to sit on that plane: a cell must be centred on it,
-    b n - 1/2 an integer for n cells (for b = 1/2: n odd).  When a node
-    plane lies there instead (n even for b = 1/2), the band has to sit
-    beside it and jog by half a cell at every bed joint, and the capacity
-    converges slowly from above (measured: 7 and 9 cells against 8)."""
-    b = geometry["bond_offset"]
-    if geometry["courses"] < 2 or b <= 0.0 or b >= 1.0:
-        return None
-    k = b * cells_along - 0.5
-    if abs(k - round(k)) < 1e-9:
-        return None
-    need = "an odd number" if abs(b - 0.5) < 1e-12 else f"n with {b:g} n - 1/2 an integer"
-    return (f"a unit's crack plane (in line with the head joints of the next courses, {b:g} of its length from "
-            f"its end) must fall in the middle of a cell, not on a node plane: use {need} of cells along the unit, "
-            f"got {cells_along}")
-
-
-def crack_plane(geometry, k):
-    """Where a line crack crosses a unit of course k: the distance from its
-    left end of the plane in line with the head joints of the courses
-    above and below (b L in courses shifted by the bond offset b L against
-    the course below, (1 - b) L in the others; L / 2 for half bond, and in
-    stack bond, where no head joint crosses a unit)."""
-    L = modelled_unit(geometry)[0]
-    b = geometry["bond_offset"]
-    if not 0.0 < b < 1.0:       # stack bond: the head joints line up; a unit cracks at mid-length
-        return 0.5 * L
-    return (1.0 - b) * L if k % 2 else b * L
-
-
-def running_bond_joints(courses, per_course):
-    """Joints numbered as contact planes: the head joints course by course
-    (per_course - 1 per course), then one bed-joint plane under each unit
-    of courses 1.. (a plane may touch one or two units below).  Returns a
-    list of (kind, unit) with unit = (course, index) of the unit to the
-    left of a head joint or above a bed plane."""
-    head = [("head", (k, i)) for k in range(courses) for i in range(per_course - 1)]
-    bed = [("bed", (k, i)) for k in range(1, courses) for i in range(per_course)]
-    return head + bed
+def crack_stiffness(E, L, units, joints):
+    """(k_n, k_s) of a potential-crack unit's interface: crack_kn_ratio E / L
+    (L the modelled unit's length), k_s = ks_ratio k_n."""
+    kn = units.crack_kn_ratio * E / L
+    return kn, joints.ks_ratio * kn
 
 
 def flexural_strength(P, shear_span, section_height, thickness):

@@ -15,10 +15,9 @@ axes then turn with the block that carries them.
 """
 import numpy as np
 
-from . import kernels as K
 from .assembly import assemble
-from .blocks import Block, check_3, face_point, face_quadrature, face_refine, local_axes, refine_axes
-from .contacts import Strip, SubContacts, faces_on_plane
+from .blocks import Block, check_3, face_point, face_quadrature, refine_axes
+from .contacts import SubContacts, bearing_strip, faces_on_plane
 from .elements import ELEMENTS
 from .errors import InputError
 from .laws import Elastic, joint_law
@@ -55,7 +54,6 @@ class Model:
         self.large = False           # rigid blocks: large rotations
         self.monitors = []           # (name, nodes, direction)
         self.gravity = np.zeros(3)
-        self._built = None
 
     # --- blocks ---------------------------------------------------------
     def add_box(self, lo, hi, cells, material, rigid=False, element="zones"):
@@ -94,7 +92,6 @@ class Model:
         self.blocks.append(blk)
         self._x0.append(blk.centroid[None, :] if blk.rigid else blk.mesh.nodes)
         self.n_nodes += blk.n_nodes
-        self._built = None
         return blk
 
     @property
@@ -128,12 +125,6 @@ class Model:
         self.joint_props = props
         self.joint_refine = refine if callable(refine) else refine_axes(refine, "joints.refine")
         self.strip_refine = refine_axes(strip_refine, "strips.refine")
-        self._built = None
-
-    @property
-    def contacts(self):
-        """The joints (contacts.Contact), found from the initial geometry."""
-        return self.build().contacts
 
     # --- boundary conditions ---------------------------------------------
     def add_strip(self, name, axis, coord, normal, rect, kn, velocity=(0.0, 0.0, 0.0)):
@@ -141,33 +132,10 @@ class Model:
         ``rect`` = ((plo, phi), (qlo, qhi)) in the plane's coordinates
         (p, q) = (axis+1, axis+2) mod 3, bearing on the block faces whose
         outward normal is ``normal`` * e_axis.  Moves with ``velocity``.
-        Its node follows the block nodes; its number is set by ``build``."""
-        where = f"strips.{name}"
-        if kn is None or not np.isfinite(kn) or kn <= 0:
-            raise InputError(f"{where}.kn", f"must be a positive stiffness, got {kn!r}")
-        velocity = check_3(f"{where}.velocity", velocity)
-        index = len(self.strips)
-        row = np.zeros(K.N_JP)
-        row[K.JP_KN] = kn
-        axes = local_axes(axis, float(normal))
-        points = []
-        for b, side, r in faces_on_plane(self.blocks, axis, coord, normal, rect):
-            points += [(b.interpolate(axis, side, pp, qq), ar, face_point(axis, coord, pp, qq))
-                       for pp, qq, ar in zip(*face_quadrature(r, zip(b.face_grid(axis)),
-                                                                face_refine(self.strip_refine, axis)))]
-        if not points:
-            raise InputError(f"{where}.rect", "the strip touches no block face")
-        sc = self.strip_subcontacts
-        start = len(sc)
-        for (na, wa), ar, pt in points:     # side B: the strip, -(index + 1) until build
-            sc.add(na, wa, [-(index + 1)], [1.0], axes, ar, row, pt)
-        p, q = (axis + 1) % 3, (axis + 2) % 3
-        x0 = np.zeros(3)
-        x0[axis], x0[p], x0[q] = coord, np.mean(rect[0]), np.mean(rect[1])
-        strip = Strip(name, axis, int(normal), float(kn), slice(start, len(sc)),
-                      float(sum(p[1] for p in points)), x0, velocity)
+        Its node follows the block nodes (``Assembly.strip_nodes``)."""
+        strip = bearing_strip(self.strip_subcontacts, self.blocks, len(self.strips), name, axis, coord, normal, rect,
+                              kn, velocity, self.strip_refine)
         self.strips.append(strip)
-        self._built = None
         return strip
 
     def add_pressure(self, axis, coord, normal, rect, pressure):
@@ -195,7 +163,6 @@ class Model:
                     f += wgt * force
         if total == 0.0:
             raise InputError("pressure.rect", "the pressure acts on no block face")
-        self._built = None
         return total
 
     def add_force(self, nodes, force):
@@ -204,7 +171,6 @@ class Model:
         for nd in np.atleast_1d(nodes):
             f = self.forces.setdefault(int(nd), np.zeros(3))
             f += force
-        self._built = None
 
     def fix(self, nodes, dofs=(0, 1, 2), velocity=0.0):
         """Prescribes the velocity of components ``dofs`` of ``nodes``."""
@@ -220,7 +186,6 @@ class Model:
                 if dof not in (0, 1, 2):
                     raise InputError("fix.dofs", f"dofs are 0, 1, 2, got {dof!r}")
                 d[dof] = float(vv)
-        self._built = None
 
     def fix_rotation(self, block, dofs=(0, 1, 2), velocity=0.0):
         """Prescribes the angular velocity (rad per unit time, about the
@@ -234,27 +199,21 @@ class Model:
             if dof not in (0, 1, 2):
                 raise InputError(f"blocks[{block.id}].fix_rotation.dofs", f"dofs are 0, 1, 2, got {dof!r}")
             d[dof] = float(w)
-        self._built = None
 
     def add_monitor(self, name, nodes, direction):
         """Records, every step, the reaction (sum over ``nodes`` of the force
         the constraint applies, along ``direction``) and the mean
         displacement of ``nodes`` along ``direction``.  ``nodes``: node
-        indices, or Strip objects (their nodes are numbered at build)."""
+        indices, or Strip objects (their nodes: ``Assembly.strip_nodes``)."""
         if direction not in (0, 1, 2):
             raise InputError(f"monitors.{name}.direction", f"must be 0, 1 or 2, got {direction!r}")
         items = list(nodes) if np.ndim(nodes) else [nodes]
         if not items:
             raise InputError(f"monitors.{name}.nodes", "no node selected")
         self.monitors.append((name, items, int(direction)))
-        self._built = None
-
-    # --- assembly --------------------------------------------------------
 
     # --- assembly --------------------------------------------------------
     def build(self):
-        """The model packed for the solver (assembly.Assembly), cached until
-        the model changes."""
-        if self._built is None:
-            self._built = assemble(self)
-        return self._built
+        """The model packed for the solver (assembly.Assembly); each call
+        packs it anew."""
+        return assemble(self)

@@ -171,7 +171,7 @@ def planned_scenes(config):
     plans: ``where`` names the config's setting (and the run) it comes from."""
     scene, numerics = config["scene"], config["numerics"]
     out = [("numerics", scene, numerics)]
-    out += [(f"study.precompression_mpa ({sv} MPa)", scene, effective(numerics, [_pressure(sv)]))
+    out += [(f"study.precompression_mpa ({sv} MPa)", scene, effective(numerics, [pressure(sv)]))
             for sv in config["study"]["precompression_mpa"]]
     v = config["validation"]
     out += [(f"validation.cases ({c['name']} at {sv} MPa)", scene, validation_overrides(config, c["name"], sv))
@@ -184,12 +184,13 @@ def planned_scenes(config):
             for case, setting in accuracy_runs(config)]
     out += [(f"accuracy.scaling_courses ({n})", scene, scaling_overrides(config, n)) for n in scaling_courses(config)]
     if config.get("accuracy"):
-        out += [(f"accuracy.subsample.fine ({sv} MPa)", scene, effective(subsample_fine(config), [_pressure(sv)]))
+        out += [(f"accuracy.subsample.fine ({sv} MPa)", scene, effective(subsample_fine(config), [pressure(sv)]))
                 for sv in config["accuracy"]["subsample"]["precompression_mpa"]]
     return out
 
 
-def _pressure(sv_mpa):
+def pressure(sv_mpa):
+    """The override of a precompression level (MPa)."""
     return f"loading.precompression.pressure={float(sv_mpa) * 1e6}"
 
 
@@ -202,7 +203,8 @@ def check(config):
     import copy
 
     from .errors import InputError, check_finite
-    from .scene import apply_overrides, read_scene, validate_scene
+    from .inputs import apply_overrides, read_scene
+    from .scene import validate_scene
     check_finite(config)
     scenes, done = {}, set()
     for where, scene, overrides in planned_scenes(config):

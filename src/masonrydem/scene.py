@@ -1,101 +1,132 @@
-"""Scenes: a specimen described in YAML, validated before anything runs
-(specimen.py builds it into a Model).
+"""Scenes: a specimen described in YAML (inputs.py reads it), validated
+once into a typed, frozen ``Scene`` (specimen.py builds it).
 
 A scene (schema: scene_schema.yaml, defaults = the Willis wallette of
 docs/study.md) declares geometry, physics, materials, loading, numerics and
 outputs.  ``load_scene`` reads it, applies ``--set`` overrides and checks it;
 every error names the field (a dotted path, as the scene writes it) and the
-reason.  Refused before anything is allocated: a file that is not UTF-8
-text or not YAML, a key given twice, an alias bomb, a NaN or an infinity, a
+reason.  Refused before anything is allocated: a NaN or an infinity, a
 value the schema does not allow, a test whose geometry makes no sense, and
-a model too large for the machine's memory (``model_size``).
+a model too large for the machine's memory (``model_size``).  Nothing
+below this module reads the scene as a mapping.
 """
 import copy
 import os
-import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import resources
 
-import numpy as np
-import yaml
 from jsonschema import Draft202012Validator, validators
 
-from .errors import InputError, check_finite
-from .laws import BLOCK_MODELS, JOINT_LAWS, Elastic, MohrCoulomb
 from .blocks import refine_axes
-from .masonry import crack_band_error, running_bond_joints, wall_length
-
-
-class _Loader(yaml.SafeLoader):
-    """YAML loader that also reads 15e9 or 0.3e6 as floats (YAML 1.1, and so
-    PyYAML, wants 15.0e+9)."""
-
-
-_Loader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)\.[0-9_]*(?:[eE][-+]?[0-9]+)?
-                   |[-+]?(?:[0-9][0-9_]*)(?:[eE][-+]?[0-9]+)
-                   |\.[0-9_]+(?:[eE][-+]?[0-9]+)?
-                   |[-+]?\.(?:inf|Inf|INF)
-                   |\.(?:nan|NaN|NAN))$""", re.X),
-    list("-+0123456789."))
-
-
-MAX_BYTES = 1_000_000     # a scene file (a scene is a few kB)
-MAX_VALUES = 100_000      # values in a document once its aliases are expanded
-
-
-def read_yaml(text, where="scene"):
-    """YAML ``text`` (a scene, a ``--set`` value named ``where``), refusing a
-    key given twice in a mapping (YAML keeps the last one silently), an
-    alias to itself, and more than MAX_VALUES values once aliases are
-    expanded (an alias bomb: a few lines that expand to billions), before
-    anything is built from it."""
-    loader = _Loader(text)
-    try:
-        node = loader.get_single_node()
-        if node is None:
-            return None
-        _check_node(node, "" if where == "scene" else where, {})
-        return loader.construct_document(node)
-    except RecursionError:
-        raise InputError(where, "is nested too deeply") from None
-    finally:
-        loader.dispose()
-
-
-def _check_node(node, path, seen):
-    """The number of values under a YAML node, aliases expanded (each
-    distinct node counted once: linear in the document's own size)."""
-    if id(node) in seen:
-        if seen[id(node)] is None:
-            raise InputError(path or "scene", "refers to itself (a recursive YAML alias)")
-        return seen[id(node)]
-    seen[id(node)] = None
-    n = 1
-    if isinstance(node, yaml.MappingNode):
-        lines = {}
-        for k, v in node.value:
-            name = k.value if isinstance(k, yaml.ScalarNode) else "?"
-            sub = f"{path}.{name}" if path else name
-            if name in lines and k.tag != "tag:yaml.org,2002:merge":
-                raise InputError(sub, f"is given twice (lines {lines[name]} and {k.start_mark.line + 1}): "
-                                      "keep one")
-            lines[name] = k.start_mark.line + 1
-            n += _check_node(k, sub, seen) + _check_node(v, sub, seen)
-    elif isinstance(node, yaml.SequenceNode):
-        n += sum(_check_node(v, f"{path}.{i}" if path else str(i), seen) for i, v in enumerate(node.value))
-    if n > MAX_VALUES:
-        raise InputError(path or "scene", f"holds more than {MAX_VALUES} values once its YAML aliases are "
-                                          "expanded (an alias bomb?)")
-    seen[id(node)] = n
-    return n
-
+from .errors import InputError, check_finite
+from .inputs import apply_overrides, read_scene, read_yaml
+from .laws import BLOCK_MODELS, JOINT_LAWS, Elastic, MohrCoulomb
+from .masonry import Geometry, JointFields, UnitFields, joint_fields, unit_fields
 
 SCHEMA = read_yaml(resources.files(__package__).joinpath("scene_schema.yaml").read_text())
 # the choices of physics come from the tables of laws (laws.py)
 SCHEMA["properties"]["physics"]["properties"]["blocks"]["enum"] = list(BLOCK_MODELS)
 SCHEMA["properties"]["physics"]["properties"]["joints"]["enum"] = list(JOINT_LAWS)
+
+
+@dataclass(frozen=True)
+class Physics:
+    """The effects the scene declares (the solver runs nothing else)."""
+    blocks: str           # laws.BLOCK_MODELS
+    joints: str           # laws.JOINT_LAWS
+    gravity: bool
+    large: bool           # large displacements (rigid blocks only)
+
+    @property
+    def model(self):
+        return BLOCK_MODELS[self.blocks]
+
+
+@dataclass(frozen=True)
+class Materials:
+    units: UnitFields     # one value per unit
+    joints: JointFields   # one value per mortar joint
+
+
+@dataclass(frozen=True)
+class Precompression:
+    pressure: float       # sigma_v (Pa)
+    spreader: bool
+    ratio_tol: float
+    max_steps: int
+
+
+@dataclass(frozen=True)
+class Drive:
+    """Displacement control of the test stage."""
+    rate: float           # m per step
+    ramp_steps: int
+    max_displacement: float
+    load_drop: float
+    max_steps: int
+
+
+@dataclass(frozen=True)
+class Bending:
+    supports_x: tuple
+    loads_x: tuple
+    section_height: float
+    strip_width: float
+    strip_stiffness_ratio: float
+
+    @property
+    def shear_span(self):
+        """a: from the first support to the first load."""
+        return min(self.loads_x) - min(self.supports_x)
+
+
+@dataclass(frozen=True)
+class Loading:
+    test: str             # bending, tension or triplet
+    precompression: Precompression
+    drive: Drive          # the test's
+    bending: Bending
+
+
+@dataclass(frozen=True)
+class Refine:
+    """Sub-contact refinement per kind of contact, each per global axis."""
+    head: tuple
+    bed: tuple
+    crack: tuple
+    strips: tuple
+
+
+@dataclass(frozen=True)
+class Numerics:
+    elastic_element: str
+    cells: tuple
+    refine: Refine
+    refine_label: str     # as the rows record it: '2', '1x2x1' or 'head:1x2x1'
+    safety: float
+    damping: float
+    record_every: int
+
+
+@dataclass(frozen=True)
+class Outputs:
+    curve_points: int
+    state: bool
+    crack_damage: float
+    crack_through: float
+    broken_joint_damage: float
+
+
+@dataclass(frozen=True)
+class Scene:
+    name: str
+    geometry: Geometry
+    physics: Physics
+    materials: Materials
+    loading: Loading
+    numerics: Numerics
+    outputs: Outputs
+    description: str = ""
 
 
 def _with_defaults(cls):
@@ -116,70 +147,133 @@ def _with_defaults(cls):
 _Validator = _with_defaults(Draft202012Validator)
 
 
-def _path(error):
-    return ".".join(str(p) for p in error.absolute_path) or "scene"
-
-
 def validate_scene(scene):
-    """Fills defaults in place and checks the scene; raises InputError naming
-    the first offending field."""
+    """The typed Scene of a mapping (its defaults filled in place); raises
+    InputError naming the first offending field."""
     if not isinstance(scene, dict):
         raise InputError("scene", "must be a mapping")
     check_finite(scene)
     errors = sorted(_Validator(SCHEMA).iter_errors(scene), key=lambda e: list(e.absolute_path))
     if errors:
         e = errors[0]
-        raise InputError(_path(e), e.message)
-    phys = scene["physics"]
-    if phys["displacements"] == "large" and phys["blocks"] != "rigid":
+        raise InputError(".".join(str(p) for p in e.absolute_path) or "scene", e.message)
+    g, phys, num = _geometry(scene["geometry"]), _physics(scene["physics"]), _numerics(scene["numerics"])
+    loading = _loading(scene["loading"])
+    if phys.large and phys.blocks != "rigid":
         raise InputError("physics.displacements", "large displacements need rigid blocks: deformable blocks "
-                         f"({phys['blocks']}) are small-displacement (strains on the initial geometry)")
-    if phys["blocks"] == "rigid" and scene["outputs"]["state"]:
+                         f"({phys.blocks}) are small-displacement (strains on the initial geometry)")
+    if phys.blocks == "rigid" and scene["outputs"]["state"]:
         raise InputError("outputs.state", "the final state (VTK: zones and their damage) exists for deformable "
                          "blocks only, not for rigid ones")
-    _check_size(scene)      # before anything that takes time in proportion to the model's size
-    g = scene["geometry"]
-    if BLOCK_MODELS[phys["blocks"]].material is MohrCoulomb:
-        reason = crack_band_error(g, scene["numerics"]["cells"][0])
-        if reason:
-            raise InputError("numerics.cells.0", reason)
-    n_units = g["courses"] * g["units_per_course"]
-    n_joints = len(running_bond_joints(g["courses"], g["units_per_course"]))
-    for key, n, what in (("per_unit", n_units, "units"), ("per_joint", n_joints, "joints")):
-        for name, values in scene["materials"].get(key, {}).items():
-            if isinstance(values, list) and len(values) != n:
-                raise InputError(f"materials.{key}.{name}",
-                                 f"needs one value per {what[:-1]} ({n} {what}), got {len(values)}")
-    test = scene["loading"]["test"]
-    if test == "bending":
-        length = wall_length(g)
-        bend = scene["loading"]["bending"]
-        for key in ("supports_x", "loads_x"):
-            for i, x in enumerate(bend[key]):
-                if not (0.5 * bend["strip_width"] <= x <= length - 0.5 * bend["strip_width"]):
-                    raise InputError(f"loading.bending.{key}.{i}",
-                                     f"{x} m is outside the wall (0 to {length:.4g} m)")
-        _check_four_point(bend["supports_x"], bend["loads_x"])
-    if test == "triplet":
-        for key, want in (("courses", 3), ("units_per_course", 1)):
-            if g[key] != want:
-                raise InputError(f"geometry.{key}", f"a triplet test has {want} (three units stacked), got {g[key]}")
-    return scene
+    _check_size(g, phys, num, loading)   # before anything that takes time in proportion to the model's size
+    if phys.model.material is MohrCoulomb and (reason := g.crack_band_error(num.cells[0])):
+        raise InputError("numerics.cells.0", reason)
+    _check_loading(g, loading)
+    return Scene(name=scene["name"], description=scene.get("description", ""), geometry=g, physics=phys,
+                 materials=_materials(scene["materials"], g), loading=loading, numerics=num,
+                 outputs=Outputs(**scene["outputs"]))
 
 
-def _check_four_point(supports, loads):
-    """Four-point bending: the loads between the outer supports, no support
-    between the loads (else the moment between the loads is not P a / 2,
-    and the strength computed from it means nothing)."""
-    for i, x in enumerate(loads):
-        if not min(supports) < x < max(supports):
-            raise InputError(f"loading.bending.loads_x.{i}", f"{x} m is not between the supports "
-                             f"(loading.bending.supports_x: {min(supports)} to {max(supports)} m)")
-    for i, x in enumerate(supports):
-        if min(loads) <= x <= max(loads):
-            raise InputError(f"loading.bending.supports_x.{i}", f"{x} m lies between the loads "
-                             f"(loading.bending.loads_x: {min(loads)} to {max(loads)} m); the supports must "
-                             "lie outside them")
+def load_scene(path, overrides=()):
+    """The scene file at ``path`` with ``overrides`` ('path.to.key=value'),
+    validated; InputError names the first offending field."""
+    return validate_scene(apply_overrides(read_scene(path), overrides))
+
+
+def _geometry(g):
+    u = g["unit"]
+    return Geometry(unit_length=u["length"], unit_height=u["height"], unit_width=u["width"],
+                    joint_thickness=g["joint_thickness"], courses=g["courses"], units_per_course=g["units_per_course"],
+                    bond_offset=g["bond_offset"])
+
+
+def _physics(p):
+    return Physics(blocks=p["blocks"], joints=p["joints"], gravity=p["gravity"], large=p["displacements"] == "large")
+
+
+def _loading(lo):
+    test = lo["test"]
+    b = lo["bending"]
+    drive = {k: lo[test][k] for k in ("rate", "ramp_steps", "max_displacement", "load_drop", "max_steps")}
+    return Loading(test=test, precompression=Precompression(**lo["precompression"]), drive=Drive(**drive),
+                   bending=Bending(supports_x=tuple(b["supports_x"]), loads_x=tuple(b["loads_x"]),
+                                   section_height=b["section_height"], strip_width=b["strip_width"],
+                                   strip_stiffness_ratio=b["strip_stiffness_ratio"]))
+
+
+KINDS = ("head", "bed", "crack", "strips")
+
+
+def _numerics(n):
+    raw = n["subcontact_refine"]
+    per_kind = {k: raw.get(k, 1) for k in KINDS} if isinstance(raw, dict) else dict.fromkeys(KINDS, raw)
+    refine = Refine(**{k: refine_axes(v) for k, v in per_kind.items()})
+    return Numerics(elastic_element=n["elastic_element"], cells=tuple(n["cells"]), refine=refine,
+                    refine_label=refine_label(raw), safety=n["safety"], damping=n["damping"],
+                    record_every=n["record_every"])
+
+
+def refine_label(refine):
+    """A sub-contact refinement as the rows record it: '2', '1x2x1' per axis
+    (as cells), or per kind of contact 'head:1x2x1,bed:1'."""
+    if isinstance(refine, dict):
+        return ",".join(f"{k}:{refine_label(v)}" for k, v in refine.items())
+    return "x".join(str(r) for r in refine) if isinstance(refine, (list, tuple)) else str(refine)
+
+
+def _field(section, per, key, n, what):
+    """One value per unit or joint: the per-item list, else the wall's value."""
+    values = per.get(key)
+    if values is None:
+        return [float(section[key])] * n
+    if len(values) != n:
+        raise InputError(f"materials.per_{what}.{key}", f"needs one value per {what} ({n} {what}s), "
+                         f"got {len(values)}")
+    return values
+
+
+def _materials(m, g):
+    """The units' and joints' fields by the rules of masonry.py: the same
+    for a property given once for the wall and one given per item."""
+    mu, mj = m["units"], m["joints"]
+    per_u, per_j = m.get("per_unit", {}), m.get("per_joint", {})
+    n_units, n_joints = g.n_units, len(g.joints)
+    rule = mu.get("Gf_rule")
+    units = unit_fields(E=_field(mu, per_u, "E", n_units, "unit"), ft=_field(mu, per_u, "ft", n_units, "unit"),
+                        nu=mu["nu"], c_ratio=mu["c_ratio"], phi=mu["phi"], Gf=mu["Gf"], density=mu["density"],
+                        crack_kn_ratio=mu["crack_kn_ratio"],
+                        gf_rule=(rule["coefficient"], rule["exponent"]) if rule else None)
+    joints = joint_fields(ft=_field(mj, per_j, "ft", n_joints, "joint"), phi=_field(mj, per_j, "phi", n_joints, "joint"),
+                          c_ratio=mj["c_ratio"], GI=mj["GI"], GII_ratio=mj["GII_ratio"], Em_ratio=mj["Em_ratio"],
+                          ks_ratio=mj["ks_ratio"], gi_per_ft=mj.get("GI_per_ft"))
+    return Materials(units=units, joints=joints)
+
+
+def _check_loading(g, loading):
+    """Four-point bending on the wall, the loads between the outer supports
+    and no support between the loads (else the moment between the loads is
+    not P a / 2, and the strength computed from it means nothing); a
+    triplet of three units stacked."""
+    if loading.test == "bending":
+        b = loading.bending
+        for key, xs in (("supports_x", b.supports_x), ("loads_x", b.loads_x)):
+            for i, x in enumerate(xs):
+                if not (0.5 * b.strip_width <= x <= g.length - 0.5 * b.strip_width):
+                    raise InputError(f"loading.bending.{key}.{i}", f"{x} m is outside the wall (0 to {g.length:.4g} m)")
+        supports, loads = b.supports_x, b.loads_x
+        for i, x in enumerate(loads):
+            if not min(supports) < x < max(supports):
+                raise InputError(f"loading.bending.loads_x.{i}", f"{x} m is not between the supports "
+                                 f"(loading.bending.supports_x: {min(supports)} to {max(supports)} m)")
+        for i, x in enumerate(supports):
+            if min(loads) <= x <= max(loads):
+                raise InputError(f"loading.bending.supports_x.{i}", f"{x} m lies between the loads "
+                                 f"(loading.bending.loads_x: {min(loads)} to {max(loads)} m); the supports must "
+                                 "lie outside them")
+    if loading.test == "triplet":
+        for key, have, want in (("courses", g.courses, 3), ("units_per_course", g.units_per_course, 1)):
+            if have != want:
+                raise InputError(f"geometry.{key}", f"a triplet test has {want} (three units stacked), got {have}")
 
 
 # bytes per item of a model at the peak of building it and setting up its
@@ -190,39 +284,34 @@ def _check_four_point(supports, loads):
 ITEM_BYTES = dict(nodes=500, tetrahedra=3000, cells=5000, sub_contacts=1500)
 
 
-def model_size(scene):
-    """An upper estimate of the model a validated scene builds, from its
-    numbers alone (nothing allocated): nodes, tetrahedra (zones), linear
-    cells, sub-contacts (joints, crack interfaces and strips: composite
-    Simpson points, 2 r + 1 per interval and direction at refine r) and
-    bytes (ITEM_BYTES)."""
-    g, num = scene["geometry"], scene["numerics"]
-    model = BLOCK_MODELS[scene["physics"]["blocks"]]
-    units = g["courses"] * g["units_per_course"]
-    from .specimen import refine_by_kind
-    r = {k: refine_axes(v) for k, v in refine_by_kind(num["subcontact_refine"]).items()}
+def model_size(g, physics, numerics, loading):
+    """An upper estimate of the model a scene builds, from its numbers alone
+    (nothing allocated): nodes, tetrahedra (zones), linear cells,
+    sub-contacts (joints, crack interfaces and strips: composite Simpson
+    points, 2 r + 1 per interval and direction at refine r) and bytes
+    (ITEM_BYTES)."""
+    model = physics.model
+    units = g.n_units
+    r = numerics.refine
     pieces = 2 if model.crack_interface else 1
-    a, b, c = max(num["cells"][0], pieces), num["cells"][1], num["cells"][2]
+    a, b, c = max(numerics.cells[0], pieces), numerics.cells[1], numerics.cells[2]
 
     def simpson(m, rm, n, rn):      # points on a face of m x n intervals, refined rm and rn times
         return (2 * rm * m + 1) * (2 * rn * n + 1)
 
-    bend = scene["loading"]["bending"]
-    strips = len(bend["supports_x"]) + len(bend["loads_x"]) if scene["loading"]["test"] == "bending" else 0
+    bend = loading.bending
+    strips = len(bend.supports_x) + len(bend.loads_x) if loading.test == "bending" else 0
     # per unit a head joint (and its crack interface) and a bed joint on the
     # union of two face grids, offset by the bond (their lines coincide when
     # the offset falls on a grid line); strips across the wall's height, a
-    # few cells wide
-    shift = g["bond_offset"] * a
+    # few cells wide.  Faces normal to x: (y, z); to z: (x, y); strips (normal to y): (z, x)
+    shift = g.bond_offset * a
     along = a if abs(shift - round(shift)) < 1e-9 else 2 * a
-    # faces normal to x: (y, z); to z: (x, y); the strips' (normal to y): (z, x)
-    face = {k: {0: (v[1], v[2]), 2: (v[0], v[1]), 1: (v[2], v[0])} for k, v in r.items()}
-    subs = (units * (simpson(b, face["head"][0][0], c, face["head"][0][1])
-                     + (pieces - 1) * simpson(b, face["crack"][0][0], c, face["crack"][0][1])
-                     + simpson(along, face["bed"][2][0], b, face["bed"][2][1]))
-            + strips * simpson(g["courses"] * c, face["strips"][1][0], 3, face["strips"][1][1]))
+    subs = (units * (simpson(b, r.head[1], c, r.head[2]) + (pieces - 1) * simpson(b, r.crack[1], c, r.crack[2])
+                     + simpson(along, r.bed[0], b, r.bed[1]))
+            + strips * simpson(g.courses * c, r.strips[2], 3, r.strips[0]))
     hexes = 0 if model.rigid else units * a * b * c
-    zones = model.material is not Elastic or num["elastic_element"] == "zones"
+    zones = model.material is not Elastic or numerics.elastic_element == "zones"
     size = dict(nodes=strips + units * (pieces if model.rigid else (a + pieces) * (b + 1) * (c + 1)),
                 tetrahedra=10 * hexes if zones else 0, cells=0 if zones else hexes, sub_contacts=subs)
     size["bytes"] = sum(ITEM_BYTES[k] * n for k, n in size.items())
@@ -237,92 +326,34 @@ def memory_bytes():
         return None
 
 
-def _check_size(scene):
+def _check_size(g, physics, numerics, loading):
     """Refuses a model that would not fit in the machine's memory (it would
     end in a MemoryError after seconds or minutes of building), naming the
     setting to blame: the wall if it is too large at the schema's default
     cells and refinement, else the cells if too many at refinement 1, else
     the refinement."""
     memory = memory_bytes()
-    if memory is None or model_size(scene)["bytes"] <= memory:
+    size = model_size(g, physics, numerics, loading)
+    if memory is None or size["bytes"] <= memory:
         return
-    g, num = scene["geometry"], scene["numerics"]
-    defaults = {k: v["default"] for k, v in SCHEMA["properties"]["numerics"]["properties"].items()}
+    defaults = _numerics(copy.deepcopy({k: v["default"] for k, v in
+                                        SCHEMA["properties"]["numerics"]["properties"].items()}))
 
-    def fits(**numerics):
-        return model_size({**scene, "numerics": {**num, **numerics}})["bytes"] <= memory
+    def fits(num):
+        return model_size(g, physics, num, loading)["bytes"] <= memory
 
-    if not fits(cells=defaults["cells"], subcontact_refine=defaults["subcontact_refine"]):
-        field = "geometry.courses" if g["courses"] >= g["units_per_course"] else "geometry.units_per_course"
+    if not fits(replace(numerics, cells=defaults.cells, refine=defaults.refine)):
+        field = "geometry.courses" if g.courses >= g.units_per_course else "geometry.units_per_course"
     else:
-        field = "numerics.subcontact_refine" if fits(subcontact_refine=1) else "numerics.cells"
-    size = model_size(scene)
+        field = "numerics.subcontact_refine" if fits(replace(numerics, refine=defaults.refine)) else "numerics.cells"
     raise InputError(field, f"the model would need an estimated {_big(size['bytes'], 1e9)} GB of memory, more "
                      f"than this machine's {memory / 1e9:.3g} GB: {_big(size['tetrahedra'])} tetrahedra, "
                      f"{_big(size['cells'])} linear cells and {_big(size['sub_contacts'])} sub-contacts for "
-                     f"{_big(g['courses'] * g['units_per_course'])} units (geometry.courses {g['courses']} x "
-                     f"geometry.units_per_course {g['units_per_course']}) at numerics.cells {num['cells']} and "
-                     f"numerics.subcontact_refine {num['subcontact_refine']}; use fewer cells, a lower refinement or "
+                     f"{_big(g.n_units)} units (geometry.courses {g.courses} x geometry.units_per_course "
+                     f"{g.units_per_course}) at numerics.cells {list(numerics.cells)} and "
+                     f"numerics.subcontact_refine {numerics.refine_label}; use fewer cells, a lower refinement or "
                      "a smaller wall")
 
 
 def _big(n, unit=1):
     return f"{n / unit:.3g}" if n < 10 ** 300 else f"over {1e300 / unit:.3g}"
-
-
-def _set(scene, dotted, value):
-    keys = dotted.split(".")
-    if not all(k.strip() for k in keys):
-        raise InputError("--set", f"{dotted!r} is not a dotted path of settings (e.g. materials.units.E)")
-    node = scene
-    for i, k in enumerate(keys[:-1]):
-        node = node.setdefault(k, {})
-        if not isinstance(node, dict):
-            raise InputError(dotted, f"{'.'.join(keys[:i + 1])} is a value ({node!r}), not a section of "
-                             f"settings: it has no {keys[i + 1]!r}")
-    node[keys[-1]] = value
-
-
-def apply_overrides(scene, overrides):
-    """``overrides``: strings 'path.to.key=value' (value parsed as YAML)."""
-    if not isinstance(scene, dict):
-        raise InputError("scene", "must be a mapping")
-    for item in overrides or ():
-        if "=" not in item:
-            raise InputError("--set", f"expected path.to.key=value, got {item!r}")
-        key, raw = (x.strip() for x in item.split("=", 1))
-        try:
-            value = read_yaml(raw, key)
-        except yaml.YAMLError as e:
-            raise InputError(key, f"the value {raw!r} is not valid YAML: {e}") from None
-        _set(scene, key, value)
-    return scene
-
-
-def read_scene(path):
-    """The scene file at ``path`` parsed (UTF-8 YAML), not yet validated."""
-    try:
-        with open(path, "rb") as f:
-            data = f.read(MAX_BYTES + 1)
-    except OSError as e:
-        raise InputError("scene", f"cannot read {path}: {e.strerror}") from None
-    if len(data) > MAX_BYTES:
-        raise InputError("scene", f"{path} is larger than {MAX_BYTES} bytes: not a scene (a scene is a few kB)")
-    try:
-        scene = read_yaml(data.decode("utf-8"))
-    except UnicodeDecodeError as e:
-        line = data[:e.start].count(b"\n") + 1
-        raise InputError("scene", f"{path} is not UTF-8 text (line {line}: byte 0x{data[e.start]:02x}): a scene is "
-                         "a YAML text file in UTF-8") from None
-    except yaml.YAMLError as e:
-        raise InputError("scene", f"{path} is not valid YAML: {e}") from None
-    if not isinstance(scene, dict):
-        raise InputError("scene", f"{path} must hold a mapping of settings (name, geometry, ...), "
-                         f"not {type(scene).__name__}")
-    return scene
-
-
-def load_scene(path, overrides=()):
-    """The scene file at ``path`` with ``overrides`` ('path.to.key=value'),
-    validated; InputError names the first offending field."""
-    return validate_scene(apply_overrides(read_scene(path), overrides))

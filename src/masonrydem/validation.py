@@ -105,15 +105,15 @@ def specimen_table(results, curves, scenes):
         sc, curve = scenes[case], curves[case]
         u = curve["displacement_mm"]
         end = float(curve["load_kN"][u >= 0.9 * u.max()].mean()) / r["P_max_kN"]   # the last tenth
-        row = dict(case=case, test=sc["loading"]["test"], sigma_v_mpa=r["sigma_v_mpa"], f_tj_mpa=r["f_tj_mpa"],
+        row = dict(case=case, test=sc.loading.test, sigma_v_mpa=r["sigma_v_mpa"], f_tj_mpa=r["f_tj_mpa"],
                    P_max_kN=r["P_max_kN"], disp_at_peak_mm=r["disp_at_peak_mm"], stress_mpa=r["strength_mpa"],
                    end_stress_mpa=end * r["strength_mpa"], failure_mode=r["failure_mode"], status=r["status"],
                    steps=r["steps"], wall_time_s=r["wall_time_s"], classification=r["classification"])
         if row["test"] == "triplet":
-            j = sc["materials"]["joints"]
-            mu = np.tan(np.radians(j["phi"]))
-            row.update(peak_closed_form_mpa=(j["c_ratio"] * j["ft"] + sc["loading"]["precompression"]["pressure"] * mu)
-                       / 1e6, residual_closed_form_mpa=r["sigma_v_mpa"] * mu)
+            j = sc.materials.joints       # a triplet's joints alike: the first one's properties
+            mu = np.tan(np.radians(j.phi[0]))
+            row.update(peak_closed_form_mpa=(j.c[0] + sc.loading.precompression.pressure * mu) / 1e6,
+                       residual_closed_form_mpa=r["sigma_v_mpa"] * mu)
             row.update(peak_error=row["stress_mpa"] / row["peak_closed_form_mpa"] - 1,
                        residual_error=row["end_stress_mpa"] / row["residual_closed_form_mpa"] - 1)
         rows.append(row)

@@ -12,20 +12,20 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 import pyvista as pv  # noqa: E402
 
 from . import kernels as K  # noqa: E402
+from .solver import zone_damage  # noqa: E402
 
 pv.OFF_SCREEN = True
 
 
-def zones_grid(specimen, solver=None):
+def zones_grid(specimen, state=None):
     """UnstructuredGrid of the units in the initial geometry: the
     tetrahedra of zone blocks (only the first overlay of each cell: the two
     fill the same cell) and the hexahedra of linear-cell blocks, with point
     data 'u' (displacement, m) and cell data 'damage' (tensile, 0..1: the
     cell's volume-weighted mean; 0 in elastic cells) and 'unit'
     (1-based)."""
-    m = specimen.model
-    a = m.build()
-    nb = m.n_nodes
+    a = specimen.assembly
+    nb = a.n - len(a.strips)
     tets = a.zones.tets
     first = (np.arange(tets.shape[0]) % 10) < 5
     hexes = a.cells.nodes[:, [0, 1, 3, 2, 4, 5, 7, 6]]          # VTK's corner order
@@ -33,15 +33,12 @@ def zones_grid(specimen, solver=None):
                             np.hstack([np.full((hexes.shape[0], 1), 8), hexes]).ravel()])
     types = np.concatenate([np.full(first.sum(), pv.CellType.TETRA), np.full(hexes.shape[0], pv.CellType.HEXAHEDRON)])
     grid = pv.UnstructuredGrid(cells, types, a.nodes.x0[:nb])
-    zb = [blk for blk in m.blocks if blk.element == "zones"]
-    cb = [blk for blk in m.blocks if blk.element != "zones"]
-    unit = [np.full(blk.mesh.tets.shape[0], specimen.block_unit[blk.id] + 1) for blk in zb]
-    grid.cell_data["unit"] = np.concatenate([np.concatenate(unit)[first] if unit else np.zeros(0, int)]
-                                            + [np.full(blk.mesh.cells.shape[0], specimen.block_unit[blk.id] + 1)
-                                               for blk in cb])
-    grid.point_data["u"] = solver.u[:nb] if solver is not None else np.zeros((nb, 3))
-    if solver is not None:
-        d = solver.zone_damage()
+    unit = specimen.block_unit + 1
+    grid.cell_data["unit"] = np.concatenate([np.repeat(unit, np.diff(a.zone_ptr))[first],
+                                             np.repeat(unit, np.diff(a.cell_ptr))])
+    grid.point_data["u"] = state.nodes.u[:nb] if state is not None else np.zeros((nb, 3))
+    if state is not None:
+        d = zone_damage(state)
         w = a.zones.vol * a.zones.wt
         with np.errstate(invalid="ignore"):
             zd = np.repeat((d * w).reshape(-1, 10).sum(axis=1) / w.reshape(-1, 10).sum(axis=1), 5)
@@ -49,12 +46,11 @@ def zones_grid(specimen, solver=None):
     return grid
 
 
-def joints_points(specimen, solver):
+def joints_points(specimen, state):
     """PolyData of the joint sub-contacts (on side A, initial geometry) with
     point data 'u' (displacement of side A), 'damage' (D), 'joint'
     (1-based) and 'area'."""
-    m = specimen.model
-    a = m.build()
+    a = specimen.assembly
     j = a.joints
     n = j.area.size
     pts = np.zeros((n, 3))
@@ -63,24 +59,24 @@ def joints_points(specimen, solver):
         mask = k < j.cnt[:, 0]
         w = j.w[mask, k, None]
         pts[mask] += w * a.nodes.x0[j.nodes[mask, k]]
-        disp[mask] += w * solver.u[j.nodes[mask, k]]
+        disp[mask] += w * state.nodes.u[j.nodes[mask, k]]
     poly = pv.PolyData(pts)
     joint = np.zeros(n, int)
-    for c, jn in zip(m.contacts, specimen.contact_joint):
+    for c, jn in zip(a.contacts, specimen.contact_joint):
         joint[c.sc] = jn + 1
     poly.point_data["u"] = disp
     poly.point_data["joint"] = joint
     poly.point_data["area"] = j.area
-    poly.point_data["damage"] = solver.js[:, K.JS_D]
+    poly.point_data["damage"] = state.joints.state[:, K.JS_D]
     return poly
 
 
-def state_blocks(specimen, solver):
+def state_blocks(specimen, state):
     """The final state, readable by ParaView and pyvista: MultiBlock
     {zones, joints} in the initial geometry with the displacement 'u' as
     point data (ParaView: Warp By Vector)."""
-    return pv.MultiBlock({"zones": zones_grid(specimen, solver),
-                          "joints": joints_points(specimen, solver)})
+    return pv.MultiBlock({"zones": zones_grid(specimen, state),
+                          "joints": joints_points(specimen, state)})
 
 
 def _camera(p, back=False):
@@ -93,13 +89,13 @@ def _camera(p, back=False):
 
 def picture_numbering(specimen, path, window=(1600, 1000)):
     """The model with its units (U1..) and joints (J1..) numbered."""
-    m = specimen.model
+    a = specimen.assembly
     p = pv.Plotter(off_screen=True, window_size=window)
     grid = zones_grid(specimen)
     p.add_mesh(grid, scalars="unit", cmap="tab20", show_scalar_bar=False)
     labels_u, pos_u = [], []
     for u in range(len(specimen.units)):
-        blks = [blk for blk in m.blocks if specimen.block_unit[blk.id] == u]
+        blks = [blk for blk in a.blocks if specimen.block_unit[blk.id] == u]
         lo, hi = blks[0].lo, blks[-1].hi
         pos_u.append([(lo[0] + hi[0]) / 2, lo[1] - 0.002, (lo[2] + hi[2]) / 2])
         labels_u.append(f"U{u + 1}")
@@ -107,9 +103,9 @@ def picture_numbering(specimen, path, window=(1600, 1000)):
                        always_visible=True)
     pos_j = np.zeros((len(specimen.joints), 3))
     area = np.zeros(len(specimen.joints))
-    for c, jn in zip(m.contacts, specimen.contact_joint):
-        a, b = m.blocks[c.block_a], m.blocks[c.block_b]
-        lo, hi = np.maximum(a.lo, b.lo), np.minimum(a.hi, b.hi)
+    for c, jn in zip(a.contacts, specimen.contact_joint):
+        ba, bb = a.blocks[c.block_a], a.blocks[c.block_b]
+        lo, hi = np.maximum(ba.lo, bb.lo), np.minimum(ba.hi, bb.hi)
         pos_j[jn] += c.area * (lo + hi) / 2
         area[jn] += c.area
     pos_j /= area[:, None]
@@ -117,7 +113,7 @@ def picture_numbering(specimen, path, window=(1600, 1000)):
     p.add_point_labels(pos_j, [f"J{j + 1}" for j in range(len(specimen.joints))], font_size=11,
                        point_size=6, point_color="red", text_color="darkred", shape_opacity=0.6,
                        always_visible=True)
-    p.add_text(f"{specimen.scene['name']}: {len(specimen.units)} units (U), {len(specimen.joints)} joints (J)",
+    p.add_text(f"{specimen.scene.name}: {len(specimen.units)} units (U), {len(specimen.joints)} joints (J)",
                font_size=12)
     _camera(p)
     p.screenshot(str(path))

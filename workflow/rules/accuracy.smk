@@ -9,13 +9,15 @@ rule accuracy_run:
         result=f"{R}/accuracy/runs/{{case}}/{{setting}}/result.parquet",
         curve=f"{R}/accuracy/runs/{{case}}/{{setting}}/curve.parquet",
     params:
-        overrides=get_accuracy_overrides,
+        sets=get_accuracy_sets,
+        out=get_run_dir,
         solver=get_solver_hash(),
+        python=PYTHON,
     log:
         f"{R}/logs/accuracy/{{case}}_{{setting}}.log",
     threads: 1
-    script:
-        "../scripts/run.py"
+    shell:
+        RUN
 
 
 use rule accuracy_run as accuracy_scaling_run with:
@@ -23,19 +25,21 @@ use rule accuracy_run as accuracy_scaling_run with:
         result=f"{R}/accuracy/scaling/courses{{courses}}/result.parquet",
         curve=f"{R}/accuracy/scaling/courses{{courses}}/curve.parquet",
     params:
-        overrides=get_scaling_overrides,
+        sets=get_scaling_sets,
+        out=get_run_dir,
         solver=get_solver_hash(),
+        python=PYTHON,
     log:
         f"{R}/logs/accuracy/scaling_courses{{courses}}.log",
 
 
 use rule simulate as simulate_fine with:
     output:
-        result=f"{R}/accuracy/subsample/{{variant}}/sv{{sv}}/s{{sample}}.json",
-        curve=f"{R}/accuracy/subsample/{{variant}}/sv{{sv}}/s{{sample}}_curve.json",
+        result=f"{R}/accuracy/subsample/{{variant}}/sv{{sv}}/s{{sample}}/result.json",
+        curve=f"{R}/accuracy/subsample/{{variant}}/sv{{sv}}/s{{sample}}/curve.json",
     params:
-        overrides=plan.subsample_fine(config),  # complete: independent of the defaults
-        sets=get_job_sets(plan.subsample_fine(config)),
+        sets=get_fine_sets,  # complete: independent of the defaults
+        out=get_run_dir,
         solver=get_solver_hash(),
         python=PYTHON,
     log:

@@ -29,9 +29,28 @@ def get_solver_hash():
     return masonrydem.source_hash()
 
 
+PYTHON = sys.executable
+# One simulation through the command line (masonrydem.cli: the one entry
+# point of a run); --exit-zero: the job succeeds whenever the run's row is
+# written (its status says how the run ended: nothing lost).
+RUN = ("{params.python:q} -m masonrydem.cli run {input.scene:q} {params.sets} --out {params.out:q} "
+       "--threads {threads} --exit-zero > {log:q} 2>&1")
+
+
+def get_job_sets(overrides):
+    """Scene overrides as the --set options of the command line."""
+    return " ".join(f"--set {shlex.quote(o)}" for o in overrides)
+
+
+def get_run_dir(wildcards, output):
+    """The folder of a run's outputs."""
+    return os.path.dirname(output[0])
+
+
 # --- validation ---------------------------------------------------------------
-def get_validation_overrides(wildcards):
-    return plan.validation_overrides(config, wildcards.case, wildcards.sv)
+def get_validation_sets(wildcards):
+    return get_job_sets(plan.validation_overrides(config, wildcards.case, wildcards.sv)
+                        + [f"name=validation:{wildcards.case}_sv{wildcards.sv}", "outputs.state=true"])
 
 
 def get_validation_outputs():
@@ -41,8 +60,8 @@ def get_validation_outputs():
 
 
 # --- hard cases, reduced models, specimens -------------------------------------
-def get_hard_case_overrides(wildcards):
-    return plan.hard_case_overrides(config, wildcards.hard)
+def get_hard_case_sets(wildcards):
+    return get_job_sets(plan.hard_case_overrides(config, wildcards.hard) + [f"name=hard_case:{wildcards.hard}"])
 
 
 def get_stability_outputs():
@@ -53,8 +72,9 @@ def get_reduced_results():
     return [f"{R}/reduced/runs/{case}_{model}/result.parquet" for case, model in plan.reduced_runs(config)]
 
 
-def get_reduced_overrides(wildcards):
-    return plan.reduced_overrides(config, wildcards.case, wildcards.model)
+def get_reduced_sets(wildcards):
+    return get_job_sets(plan.reduced_overrides(config, wildcards.case, wildcards.model)
+                        + [f"name=reduced:{wildcards.case}_{wildcards.model}"])
 
 
 def get_reduced_outputs():
@@ -65,8 +85,8 @@ def get_specimen_scene(wildcards):
     return plan.specimen_cases(config)[wildcards.case]["scene"]
 
 
-def get_specimen_overrides(wildcards):
-    return plan.specimen_cases(config)[wildcards.case]["overrides"]
+def get_specimen_sets(wildcards):
+    return get_job_sets(plan.specimen_cases(config)[wildcards.case]["overrides"] + [f"name=specimen:{wildcards.case}"])
 
 
 def get_specimen_outputs():
@@ -77,17 +97,19 @@ def get_specimen_outputs():
 def get_study_runs(kind):
     """Every simulation's result (kind 'result') or curve file."""
     s = config["study"]
-    suffix = "" if kind == "result" else "_curve"
-    return expand(f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}{suffix}.json", variant=s["variants"],
+    return expand(f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/{kind}.json", variant=s["variants"],
                   sv=s["precompression_mpa"], sample=range(s["n_samples"]))
 
 
-PYTHON = sys.executable
+def get_study_sets(wildcards):
+    """A study simulation: the numerics and its precompression (the sample's
+    settings come from the samples file: --samples)."""
+    return get_job_sets(plan.effective(config["numerics"], [plan.pressure(wildcards.sv)]))
 
 
-def get_job_sets(overrides):
-    """Scene overrides as the --set options of masonrydem.job."""
-    return " ".join(f"--set {shlex.quote(o)}" for o in overrides)
+def get_fine_sets(wildcards):
+    """A simulation of the accuracy subsample: the fine numerics."""
+    return get_job_sets(plan.effective(plan.subsample_fine(config), [plan.pressure(wildcards.sv)]))
 
 
 def get_study_outputs():
@@ -103,12 +125,14 @@ def get_accuracy_results():
     return [f"{R}/accuracy/runs/{case}/{setting}/result.parquet" for case, setting in plan.accuracy_runs(config)]
 
 
-def get_accuracy_overrides(wildcards):
-    return plan.accuracy_overrides(config, wildcards.case, wildcards.setting)
+def get_accuracy_sets(wildcards):
+    return get_job_sets(plan.accuracy_overrides(config, wildcards.case, wildcards.setting)
+                        + [f"name=accuracy:{wildcards.case}:{wildcards.setting}"])
 
 
-def get_scaling_overrides(wildcards):
-    return plan.scaling_overrides(config, wildcards.courses)
+def get_scaling_sets(wildcards):
+    return get_job_sets(plan.scaling_overrides(config, wildcards.courses)
+                        + [f"name=scaling:courses{wildcards.courses}"])
 
 
 def get_subsample_runs(which):
@@ -117,7 +141,7 @@ def get_subsample_runs(which):
         return []
     sub = config["accuracy"]["subsample"]
     root = "study/runs" if which == "default" else "accuracy/subsample"
-    return expand(f"{R}/{root}/nonspatial/sv{{sv}}/s{{sample}}.json", sv=sub["precompression_mpa"],
+    return expand(f"{R}/{root}/nonspatial/sv{{sv}}/s{{sample}}/result.json", sv=sub["precompression_mpa"],
                   sample=range(sub["n_samples"]))
 
 

@@ -16,13 +16,15 @@ rule reduced_run:
         result=f"{R}/reduced/runs/{{case}}_{{model}}/result.parquet",
         curve=f"{R}/reduced/runs/{{case}}_{{model}}/curve.parquet",
     params:
-        overrides=get_reduced_overrides,
+        sets=get_reduced_sets,
+        out=get_run_dir,
         solver=get_solver_hash(),
+        python=PYTHON,
     log:
         f"{R}/logs/reduced/{{case}}_{{model}}.log",
     threads: 1
-    script:
-        "../scripts/run.py"
+    shell:
+        RUN
 
 
 rule reduced:

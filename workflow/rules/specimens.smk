@@ -11,13 +11,15 @@ rule specimen_run:
         result=f"{R}/specimens/runs/{{case}}/result.parquet",
         curve=f"{R}/specimens/runs/{{case}}/curve.parquet",
     params:
-        overrides=get_specimen_overrides,
+        sets=get_specimen_sets,
+        out=get_run_dir,
         solver=get_solver_hash(),
+        python=PYTHON,
     log:
         f"{R}/logs/specimens/{{case}}.log",
     threads: 1
-    script:
-        "../scripts/run.py"
+    shell:
+        RUN
 
 
 rule specimens:

@@ -10,13 +10,15 @@ rule hard_case_run:
         result=f"{R}/stability/runs/{{hard}}/result.parquet",
         curve=f"{R}/stability/runs/{{hard}}/curve.parquet",
     params:
-        overrides=get_hard_case_overrides,
+        sets=get_hard_case_sets,
+        out=get_run_dir,
         solver=get_solver_hash(),
+        python=PYTHON,
     log:
         f"{R}/logs/stability/{{hard}}.log",
     threads: 1
-    script:
-        "../scripts/run.py"
+    shell:
+        RUN
 
 
 rule hard_cases:

@@ -29,21 +29,22 @@ rule simulate:
         samples=f"{R}/study/samples_{{variant}}.json",
         scene=config["scene"],
     output:
-        result=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}.json",
-        curve=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}_curve.json",
+        result=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/result.json",
+        curve=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/curve.json",
     params:
-        overrides=config["numerics"],
-        sets=get_job_sets(config["numerics"]),
+        sets=get_study_sets,
+        out=get_run_dir,
         solver=get_solver_hash(),
         python=PYTHON,  # this workflow's interpreter (its environment has the package)
     log:
         f"{R}/logs/study/{{variant}}_sv{{sv}}_s{{sample}}.log",
     threads: 1
     shell:
-        # a light job (masonrydem.job), no script wrapper: it starts in a fraction of a second
-        "{params.python:q} -m masonrydem.job {input.scene:q} --samples {input.samples:q} --variant {wildcards.variant} "
-        "--sv {wildcards.sv} --sample {wildcards.sample} {params.sets} --threads {threads} "
-        "--result {output.result:q} --curve {output.curve:q} > {log:q} 2>&1"
+        # the command line as in RUN, no script wrapper: a light job that starts
+        # in a fraction of a second, its row and curve as JSON
+        "{params.python:q} -m masonrydem.cli run {input.scene:q} {params.sets} --out {params.out:q} "
+        "--threads {threads} --exit-zero --format json --samples {input.samples:q} --sample {wildcards.sample} "
+        "--variant {wildcards.variant} > {log:q} 2>&1"
 
 
 rule collect:

@@ -14,13 +14,15 @@ rule validation_run:
         curve=f"{R}/validation/runs/{{case}}_sv{{sv}}/curve.parquet",
         state=f"{R}/validation/runs/{{case}}_sv{{sv}}/state.vtm",
     params:
-        overrides=get_validation_overrides,
+        sets=get_validation_sets,
+        out=get_run_dir,
         solver=get_solver_hash(),
+        python=PYTHON,
     log:
         f"{R}/logs/validation/{{case}}_sv{{sv}}.log",
     threads: 1
-    script:
-        "../scripts/run.py"
+    shell:
+        RUN
 
 
 rule validation_summary:

@@ -9,7 +9,7 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 import pandas as pd  # noqa: E402
 
 from masonrydem.analysis import check_one_solver  # noqa: E402
-from masonrydem.runner import atomic_write, downsample, read_json  # noqa: E402
+from masonrydem.results import atomic_write, downsample, read_json  # noqa: E402
 
 runs = pd.DataFrame([read_json(p) for p in sm.input.results])
 print("solver", check_one_solver(runs))

@@ -5,7 +5,7 @@ sm = snakemake  # noqa: F821
 sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 from masonrydem import captions  # noqa: E402
-from masonrydem.runner import write_json  # noqa: E402
+from masonrydem.results import write_json  # noqa: E402
 from masonrydem.sampling import records, sampling_check, study_samples  # noqa: E402
 
 nonspatial, spatial, achieved = study_samples(sm.params.n_samples, sm.params.seed)

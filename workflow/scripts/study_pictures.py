@@ -13,13 +13,13 @@ import pandas as pd  # noqa: E402
 
 from masonrydem import captions, figures  # noqa: E402
 from masonrydem.analysis import typical_run  # noqa: E402
-from masonrydem.runner import read_json  # noqa: E402
-from masonrydem.scene import load_scene  # noqa: E402
-from masonrydem.study import run_sample  # noqa: E402
+from masonrydem.plan import pressure  # noqa: E402
+from masonrydem.protocol import simulate  # noqa: E402
+from masonrydem.results import outcome_row, read_json  # noqa: E402
+from masonrydem.study import study_scene  # noqa: E402
 from masonrydem.viz import picture_damage, state_blocks  # noqa: E402
 
 runs = pd.read_parquet(sm.input.runs)
-base = load_scene(sm.input.scene, sm.params.overrides)
 picked = []
 for (variant, mode), path in zip(sm.params.pictures, sm.output.pictures):
     pick, at = typical_run(runs, variant, mode)
@@ -29,12 +29,14 @@ for (variant, mode), path in zip(sm.params.pictures, sm.output.pictures):
         continue
     samples = read_json(sm.input.samples[sm.params.variants.index(variant)])
     sample = next(s for s in samples if s["sample"] == pick["sample"])
-    row, _, specimen, solver = run_sample(base, sample, variant, pick.sigma_v_mpa, frame=False)
-    if (row["P_max_kN"], row["failure_mode"]) != (pick.P_max_kN, pick.failure_mode):
+    outcome = simulate(study_scene(sm.input.scene, [*sm.params.overrides, pressure(pick.sigma_v_mpa)], sample,
+                                   variant))
+    row = outcome_row(outcome)
+    if (row.P_max_kN, row.failure_mode) != (pick.P_max_kN, pick.failure_mode):
         raise RuntimeError(f"{variant} s{pick['sample']} at {pick.sigma_v_mpa} MPa: the rerun gives P_max "
-                           f"{row['P_max_kN']} kN ({row['failure_mode']}), the study recorded {pick.P_max_kN} kN "
+                           f"{row.P_max_kN} kN ({row.failure_mode}), the study recorded {pick.P_max_kN} kN "
                            f"({pick.failure_mode})")
-    picture_damage(state_blocks(specimen, solver), path, title=f"{variant} sample {pick['sample']}, sigma_v = "
+    picture_damage(state_blocks(outcome.specimen, outcome.state), path, title=f"{variant} sample {pick['sample']}, sigma_v = "
                    f"{pick.sigma_v_mpa:g} MPa: P_max {pick.P_max_kN:.2f} kN, {mode} failure",
                    window=figures.PICTURE_WINDOW)
 captions.write_caption(sm.input.template, sm.output.caption, **captions.study_pictures(picked))
