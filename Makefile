@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: reproduce test bench bench-reduced clean-cache slurm-up slurm-down test-cluster
+.PHONY: reproduce test bench bench-reduced mutants clean-cache slurm-up slurm-down test-cluster
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -35,6 +35,12 @@ bench: $(STAMP)
 bench-reduced: $(STAMP)
 	$(BIN)/snakemake --cores 2 --quiet progress reduced
 	$(BIN)/python -c "import pandas as pd; print(pd.read_csv('results/reduced/summary.csv').to_string(index=False))"
+
+# seeded faults in the analysis, classification, sampling, masonry rules and
+# result tables, each run against the tests that guard its module: every
+# one must be caught (benchmarks/mutants.py; about 4 minutes)
+mutants: $(STAMP)
+	$(BIN)/python benchmarks/mutants.py
 
 clean-cache:
 	find src -name __pycache__ -type d -exec rm -rf {} +

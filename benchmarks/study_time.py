@@ -2,9 +2,10 @@
 
     .venv/bin/python benchmarks/study_time.py [--cores 2]
 
-Removes the study's per-run files (results/study/runs: every simulation
-reruns), runs `snakemake --cores N study` (samples, the simulations,
-collection, statistics, figures, pictures) and writes
+Removes the study's samples and per-run files (results/study/samples_*.json
+and runs: the samples are drawn again and every simulation reruns), runs
+`snakemake --cores N --forcerun sample study` (samples, the simulations,
+collection, statistics, figures, regression, pictures) and writes
 results/study/timing.csv, one row:
 
   wall_s           wall clock of the sitting, Snakemake's start to its exit
@@ -40,9 +41,14 @@ def main():
     runs_dir = ROOT / "results" / "study" / "runs"
     if runs_dir.exists():
         shutil.rmtree(runs_dir)
+    for samples in runs_dir.parent.glob("samples_*.json"):
+        samples.unlink()
     snakemake = Path(sys.executable).with_name("snakemake")
     t0 = time.perf_counter()
-    subprocess.run([str(snakemake), "--cores", str(args.cores), "study"], cwd=ROOT, check=True)
+    # forced from the samples on: with the collected tables present and up
+    # to date, Snakemake would not recreate the missing per-run files
+    subprocess.run([str(snakemake), "--cores", str(args.cores), "--forcerun", "sample", "--", "study"], cwd=ROOT,
+                   check=True)
     wall = time.perf_counter() - t0
     runs = pd.read_parquet(ROOT / "results" / "study" / "runs.parquet")
     versions = runs["solver_version"].dropna().unique()

@@ -1,6 +1,7 @@
 """`make bench` runs (issue 21: it had broken unnoticed): benchmarks/bench.py
-on a tiny wallette prints its JSON line, with the model's own counts and
-finite, positive timings."""
+on a tiny wallette prints its JSON line, with the model's own counts.  Its
+timings are figures to read, not to assert (speed is measured in the
+benchmark, never in a test)."""
 import json
 import subprocess
 import sys
@@ -27,16 +28,12 @@ def test_bench_runs_on_a_tiny_wallette(monkeypatch):
     a = sp.assembly
     assert r["tetrahedra"] == 4 * 10 == a.zones.tets.shape[0]
     assert r["subcontacts"] == a.joints.area.size
-    for block in (r, r["brick_failure"]):
-        for key in ("ns_per_tet_step", "ns_per_subcontact_step", "steps_per_s"):
-            assert 0 < block[key] < 1e9, key
     # every unit model with the kernels it runs: zones, linear cells, bodies
     models = r["models"]
     for name, key in (("elastic-zones", "ns_per_tet_step"), ("elastic-tet10", "ns_per_cell_step"),
                       ("elastic-hex8i", "ns_per_cell_step"), ("potential-crack", "ns_per_cell_step"),
                       ("rigid", "ns_per_subcontact_step")):
-        assert 0 < models[name][key] < 1e9 and 0 < models[name]["steps_per_s"], name
+        assert key in models[name], name
     assert models["elastic-tet10"]["cells"] == 4 and models["elastic-tet10"]["tetrahedra"] == 0
     assert models["rigid"]["tetrahedra"] == models["rigid"]["cells"] == 0
-    assert 0 < r["import_s"] < 60 and 0 < r["kernel_load_s"] < 120
-    assert 0 < r["job"]["startup_s"] < r["job"]["wall_s"] and r["job"]["steps"] > 0
+    assert r["job"]["steps"] > 0

@@ -64,18 +64,40 @@ def local(cluster, tmp_path_factory):
     return pd.read_parquet(res / "study" / "runs.parquet")
 
 
+def planned_submissions(cmd):
+    """What a cluster run of ``cmd`` will submit, from its own dry run: every
+    job it plans outside a group that has outputs (a rule with inputs only,
+    like `all`, runs nowhere), and every group job (the simulations, 50 to a
+    group: profiles/slurm).  Returns (that count, the planned simulations)."""
+    import re
+    plan = subprocess.run(cmd + ["-n"], capture_output=True, text=True, check=True).stdout.splitlines()
+    alone, rule = 0, None
+    for line in plan:
+        if m := re.match(r"(?:local)?rule (\w+):$", line):            # a job outside a group
+            rule = m.group(1)
+        elif line.startswith("    output:") and rule:
+            alone, rule = alone + 1, None
+        elif line.startswith("["):
+            rule = None
+    groups = sum("] Group job " in line for line in plan)
+    simulations = sum(line.strip() == "rule simulate:" for line in plan)
+    return alone + groups, simulations
+
+
 @pytest.fixture(scope="module")
 def runs(cluster, tmp_path_factory):
-    """The whole smoke DAG on the cluster, end to end."""
+    """The whole smoke DAG on the cluster, end to end, and what its plan
+    said it would submit."""
     root = tmp_path_factory.mktemp("cluster")
+    cmd = SNAKEMAKE + ["--profile", "profiles/slurm"] + SMOKE + ["--config", f"results={root}"]
+    expected = planned_submissions(cmd)
     t0 = time.monotonic()
-    r = subprocess.run(SNAKEMAKE + ["--profile", "profiles/slurm"] + SMOKE + ["--config", f"results={root}"],
-                       capture_output=True, text=True)
+    r = subprocess.run(cmd, capture_output=True, text=True)
     log = r.stdout + r.stderr
     assert r.returncode == 0, log[-5000:]
     print(f"\nsmoke through SLURM (whole DAG): {time.monotonic() - t0:.0f} s")
     run_id = [x.split()[-1] for x in log.splitlines() if x.startswith("SLURM run ID:")][0]
-    return root, run_id, log
+    return root, run_id, log, expected
 
 
 def same_p_max(a, b):
@@ -88,18 +110,20 @@ def same_p_max(a, b):
 
 
 def test_cluster_study_matches_local_bit_for_bit(runs, local):
-    root, _, _ = runs
+    root = runs[0]
     same_p_max(pd.read_parquet(root / "study" / "runs.parquet"), local)
 
 
 def test_cluster_jobs_were_grouped_and_accounted(runs):
-    """Every job went through SLURM and its accounting: one group job held
+    """Every job went through SLURM and its accounting: as many jobs
+    submitted, and accounted, as the run's own plan holds (its dry run:
+    every remote job, the simulations as groups of 50); one group job held
     all 32 simulations (group-components 50) on 2 cores (the profile's limit
     per job, not 32 cores) with 16 layers x 5 min, and every job completed."""
-    root, run_id, log = runs
+    root, run_id, log, (expected, simulations) = runs
     jobs = sacct(run_id)
     submitted = [x for x in log.splitlines() if "has been submitted with SLURM jobid" in x]
-    assert len(jobs) == len(submitted) > 30, jobs.to_string()
+    assert simulations == 32 and len(jobs) == len(submitted) == expected, (expected, jobs.to_string())
     assert (jobs.state == "COMPLETED").all(), jobs.to_string()
     groups = jobs[jobs.comment == "rule_simulations_simulate"]
     assert len(groups) == 1, jobs.to_string()

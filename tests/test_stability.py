@@ -248,19 +248,19 @@ def _pre_peak_dip(curve, P):
 
 @pytest.mark.parametrize("name", list(HARD))
 def test_hard_case(runs, name):
-    """Each hard case ends with a usable status and a finite peak reached
-    near equilibrium; its failure mode is the one its strengths call for;
-    the post-peak branch is labelled quasi-static or dynamic (a snap the
-    displacement control cannot follow), never left unsaid."""
-    from masonrydem.history import PEAK_UNBALANCE
+    """Each hard case ends with a usable status and a finite, positive
+    peak; its failure mode is the one its strengths call for (config
+    hard_cases: expect; every case names one); the post-peak branch is
+    labelled quasi-static or dynamic (a snap the displacement control
+    cannot follow), never left unsaid.  (That the peak was reached near
+    equilibrium holds by construction: history.chunk_peaks counts no other
+    load.)"""
     row, curve = runs[name]
     expect = HARD[name]["expect"]
     assert row["ok"], f"{row['status']}: {row['message']}"
     P = row["P_max_kN"]
     assert math.isfinite(P) and P > 0
-    assert row["unbalance_at_peak"] < PEAK_UNBALANCE
-    if expect != "any":
-        assert row["failure_mode"] == expect, row["classification"]
+    assert expect in ("joint", "brick") and row["failure_mode"] == expect, row["classification"]
     # a run stopped at its displacement limit while still rising has no
     # post-peak branch, and its status says so
     assert row["post_peak"] in ("quasi-static", "dynamic") or (

@@ -116,8 +116,13 @@ def test_rigid_body_motion_no_stress(motion):
 # --- elastic stack and cantilever ------------------------------------------------------
 def test_elastic_stack_axial():
     """A stack of 5 blocks (height h each, 4 joints) under an axial pressure
-    sigma on a frictionless base: delta = sigma (H/E + n_joints/k_n)
-    (within 3 %); the unbalanced-force ratio decays below 1e-8."""
+    sigma on a frictionless base: delta = sigma (H/E + n_joints/k_n).  The
+    uniaxial stress state has linear displacements, which the zones and the
+    joints represent exactly, so the only error is the relaxation's: at an
+    unbalanced-force ratio of 1e-8 the mean top displacement is within
+    5e-10 of the closed form and every top node within 2e-8 of it
+    (measured; allowed 1e-8 and 1e-7: a 0.1 % error in a joint's stiffness
+    would be caught 10,000 times over)."""
     m = Model()
     E, h, sigma, kn = 10e9, 0.075, 0.5e6, 5e10
     for k in range(5):
@@ -136,7 +141,8 @@ def test_elastic_stack_axial():
     state, _, res = run(state, 500_000, Stops(ratio_tol=1e-8))
     assert res.status == "converged"
     expected = sigma * (H / E + 4 / kn)
-    assert -state.nodes.u[top, 2].mean() == pytest.approx(expected, rel=0.03)
+    assert -state.nodes.u[top, 2].mean() == pytest.approx(expected, rel=1e-8)
+    np.testing.assert_allclose(-state.nodes.u[top, 2], expected, rtol=1e-7)
 
 
 def test_cantilever_of_blocks():

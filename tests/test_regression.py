@@ -1,0 +1,148 @@
+"""The prediction equations (analysis.prediction_equations, fit_equation)
+against independent computations: least squares with the Lasso's own
+optimality bound, hand-scored predictors on constructed runs."""
+import numpy as np
+import pandas as pd
+import pytest
+from sklearn.linear_model import Lasso
+
+from masonrydem import analysis as A
+
+LEVELS = np.array([0.0, 0.075, 0.15, 0.25, 0.5])
+
+
+def _samples(seed, n):
+    """n property sets at the five levels: (f_tu, f_tj, sigma_v, sample)."""
+    rng = np.random.default_rng(seed)
+    f_tu = np.repeat(rng.lognormal(np.log(3.75), 0.25, n), LEVELS.size)
+    f_tj = np.repeat(rng.lognormal(np.log(0.3), 0.4, n), LEVELS.size)
+    return f_tu, f_tj, np.tile(LEVELS, n), np.repeat(np.arange(n), LEVELS.size)
+
+
+def _standardised(X):
+    mean, scale = X.mean(axis=0), X.std(axis=0)
+    return (X - mean) / scale, mean, scale
+
+
+def test_lasso_against_least_squares_within_its_optimality_bound():
+    """On standardised features Z (n rows) the Lasso minimises
+    |y - b0 - Z b|^2 / 2n + alpha |b|_1.  Its optimality conditions: the
+    gradient g = Z^T (y - b0 - Z b) / n equals alpha sign(b_j) where b_j is
+    not zero and lies within +-alpha where it is; checked on the fitted
+    equation brought back to standardised units, to 1e-6 alpha (the
+    default solver tolerance missed them by 6 % of alpha on f_tu here).
+    Least squares has g = 0, so (Z^T Z / n)(b_ls - b) = alpha s, |s_j| <= 1,
+    and |b_ls - b| <= alpha sqrt(p) / lambda_min(Z^T Z / n): the equation
+    lies within that bound of the least-squares solution (numpy lstsq, an
+    independent method), and a plain Lasso at the chosen alpha (the
+    features standardised by hand) gives the same coefficients."""
+    f_tu, f_tj, sv, sample = _samples(3, 60)
+    y = 0.4 + 2.0 * f_tj + 0.05 * f_tu ** 2 + 0.9 * sv + np.random.default_rng(4).normal(0, 0.01, sv.size)
+    eq = A.fit_equation(f_tu, f_tj, sv, y, sample)
+    alpha = eq["alpha"]
+    Z, mean, scale = _standardised(A.features(f_tu, f_tj, sv))
+    b = np.array([eq["coef"][k] for k in A.FEATURES]) * scale
+    b0 = eq["intercept"] + np.sum(b / scale * mean)
+    g = Z.T @ (y - b0 - Z @ b) / len(y)
+    active = b != 0
+    np.testing.assert_allclose(g[active], alpha * np.sign(b[active]), rtol=0, atol=1e-6 * alpha)
+    assert np.all(np.abs(g[~active]) <= alpha * (1 + 1e-6))
+    ls = np.linalg.lstsq(np.column_stack([np.ones(len(y)), Z]), y, rcond=None)[0]
+    lam = np.linalg.eigvalsh(Z.T @ Z / len(y)).min()
+    assert np.linalg.norm(ls[1:] - b) <= alpha * np.sqrt(Z.shape[1]) / lam
+    plain = Lasso(alpha=alpha, max_iter=1_000_000, tol=1e-12).fit(Z, y)
+    np.testing.assert_allclose(b, plain.coef_, rtol=0, atol=1e-6 * np.abs(plain.coef_).max())
+    assert b0 == pytest.approx(plain.intercept_, abs=1e-6)
+
+
+def _runs(joint_law, brick_law, n_joint, n_brick, seed=5):
+    """Non-spatial ok runs: samples 0..n_joint-1 fail in the joints at
+    every level, the next n_brick in the bricks, each by its exact law."""
+    f_tu, f_tj, sv, sample = _samples(seed, n_joint + n_brick)
+    mode = np.where(sample < n_joint, "joint", "brick")
+    strength = np.where(mode == "joint", joint_law(f_tu, f_tj, sv), brick_law(f_tu, f_tj, sv))
+    return pd.DataFrame(dict(variant="nonspatial", ok=True, sample=sample, sigma_v_mpa=sv, f_tu_mpa=f_tu,
+                             f_tj_mpa=f_tj, failure_mode=mode, strength_mpa=strength))
+
+
+def JOINT(f_tu, f_tj, sv):
+    return 0.3 + 3.0 * f_tj + 2.0 * sv
+
+
+def BRICK(f_tu, f_tj, sv):
+    return 0.5 + 0.5 * f_tu + 0.2 * f_tj
+
+
+def test_each_mode_gets_its_own_equation():
+    """Joint-mode runs follow one exact law, brick-mode runs another: each
+    mode's equation recovers its own law (fitted MAPE below 0.5 %), not a
+    mixture of the two (which would miss both by several per cent)."""
+    ns = _runs(JOINT, BRICK, 12, 12)
+    fits, rows, _ = A.prediction_equations(ns)
+    assert set(fits) == {"joint", "brick"}
+    for mode, law in (("joint", JOINT), ("brick", BRICK)):
+        g = ns[ns.failure_mode == mode]
+        pred = A.predict(fits[mode][0], g.f_tu_mpa, g.f_tj_mpa, g.sigma_v_mpa)
+        assert A.mape(law(g.f_tu_mpa, g.f_tj_mpa, g.sigma_v_mpa), pred) < 0.5, mode
+        np.testing.assert_array_equal(fits[mode][1], g.strength_mpa.to_numpy())
+    table = pd.DataFrame(rows).set_index("mode")
+    assert table.loc["joint", "n"] == table.loc["brick", "n"] == 60
+
+
+def test_the_lower_of_two_row_scored_by_hand():
+    """The 'lower of two' row: from the two returned equations, the
+    predicted strength is the lower one and its mode the lower one's; its
+    MAPE, mode agreement (the share of runs whose predicted mode is their
+    simulated one) and residual SD (of simulated minus predicted, ddof 1)
+    are those computed here by hand over every run."""
+    ns = _runs(JOINT, BRICK, 10, 9)
+    fits, rows, resid_sd = A.prediction_equations(ns)
+    j = A.predict(fits["joint"][0], ns.f_tu_mpa, ns.f_tj_mpa, ns.sigma_v_mpa)
+    b = A.predict(fits["brick"][0], ns.f_tu_mpa, ns.f_tj_mpa, ns.sigma_v_mpa)
+    low = np.where(j <= b, j, b)
+    mode = np.where(j <= b, "joint", "brick")
+    y = ns.strength_mpa.to_numpy()
+    row = pd.DataFrame(rows).set_index("mode").loc["lower of two"]
+    assert row.n == len(ns) and row.equation == "min(joint, brick)"
+    assert row.mape_pct == pytest.approx(100.0 * np.mean(np.abs(low - y) / y), rel=1e-12)
+    assert row.mode_agreement == pytest.approx(np.mean(mode == ns.failure_mode.to_numpy()), rel=1e-12)
+    assert resid_sd == row.residual_sd_mpa == pytest.approx(np.std(y - low, ddof=1), rel=1e-12)
+
+
+def test_a_mode_with_too_few_samples_is_not_fitted_and_the_other_stands_for_both():
+    """Brick failures in 6 samples (fewer than MIN_GROUPS = 7): no brick
+    equation, a row saying why, and the joint equation alone scores every
+    run, the brick runs included."""
+    ns = _runs(JOINT, BRICK, 10, 6)
+    fits, rows, resid_sd = A.prediction_equations(ns)
+    table = pd.DataFrame(rows).set_index("mode")
+    assert set(fits) == {"joint"}
+    assert table.loc["brick", "n"] == 30 and "too few runs to fit (6 samples" in table.loc["brick", "equation"]
+    assert table.loc["lower of two", "equation"] == "the joint equation alone"
+    pred = A.predict(fits["joint"][0], ns.f_tu_mpa, ns.f_tj_mpa, ns.sigma_v_mpa)
+    assert resid_sd == pytest.approx(np.std(ns.strength_mpa - pred, ddof=1), rel=1e-12)
+    assert table.loc["lower of two", "mode_agreement"] == pytest.approx(10 / 16)
+
+
+def test_no_mode_with_enough_samples_fits_nothing():
+    fits, rows, resid_sd = A.prediction_equations(_runs(JOINT, BRICK, 6, 6))
+    assert fits == {} and np.isnan(resid_sd) and [r["mode"] for r in rows] == ["joint", "brick"]
+
+
+def test_the_folds_hold_whole_samples(monkeypatch):
+    """prediction_equations passes each run's sample as its group (a fold
+    holds a sample at every level), the mode's runs only."""
+    seen = {}
+    real = A.fit_equation
+
+    def spy(f_tu, f_tj, sigma_v, strength, groups):
+        seen[len(seen)] = (np.asarray(groups).copy(), np.asarray(f_tu).copy())
+        return real(f_tu, f_tj, sigma_v, strength, groups)
+
+    monkeypatch.setattr(A, "fit_equation", spy)
+    ns = _runs(JOINT, BRICK, 8, 8).sample(frac=1.0, random_state=0)        # rows shuffled
+    A.prediction_equations(ns)
+    for k, mode in enumerate(("joint", "brick")):
+        g = ns[ns.failure_mode == mode]
+        np.testing.assert_array_equal(seen[k][0], g["sample"].to_numpy())
+        np.testing.assert_array_equal(seen[k][1], g.f_tu_mpa.to_numpy())
