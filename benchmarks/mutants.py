@@ -22,11 +22,11 @@ SRC = ROOT / "src" / "masonrydem"
 # module -> the tests that guard it (pytest arguments, relative to the tests folder)
 GUARDS = {
     "masonry.py": ["test_scene.py", "test_study.py", "test_potential_crack.py", "-k", "not carries_f_tu"],
-    "analysis.py": ["test_analysis.py", "test_regression.py"],
+    "analysis.py": ["test_analysis.py", "test_regression.py", "test_intervals.py"],
     "classify.py": ["test_classification.py"],
     "sampling.py": ["test_sampling.py"],
     "study.py": ["test_study.py"],
-    "validation.py": ["test_tables.py"],
+    "validation.py": ["test_tables.py", "test_intervals.py"],
 }
 
 # name, module, the text as it stands, the fault
@@ -52,6 +52,12 @@ FAULTS = [
      '            row', 'sel = g if mode == "all" else g[g.failure_mode != mode]\n            row'),
     ("scatter level off by one", "analysis.py", "return levels[np.argmin(np.abs(levels - near))]",
      "return levels[np.argmin(np.abs(levels - near)) - 1]"),
+    ("resampled COV with n, not n - 1", "analysis.py", "/ (count - 1)) / mean", "/ count) / mean"),
+    ("resampled increase from the second level", "analysis.py", "increase=mean[..., -1] / mean[..., 0] - 1.0",
+     "increase=mean[..., -1] / mean[..., 1] - 1.0"),
+    ("90 % intervals", "analysis.py", "CONFIDENCE = 0.95", "CONFIDENCE = 0.90"),
+    ("scorecard: difference of the paper from ours", "validation.py", "100.0 * (ours / paper - 1.0)",
+     "100.0 * (paper / ours - 1.0)"),
     ("cell cracked above, not at, the threshold", "classify.py", "cracked = dc >= crack_damage",
      "cracked = dc > crack_damage"),
     ("through above, not at, the share", "classify.py", "through = np.flatnonzero(fractions >= crack_through)",

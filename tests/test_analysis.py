@@ -5,6 +5,7 @@ import pandas as pd
 import pytest
 
 from masonrydem import analysis as A
+from masonrydem import validation as V
 
 
 def _runs():
@@ -144,9 +145,9 @@ def test_design_rules():
     """Lourenco-Gaetani: 0.36 x 120 / 75 = 0.576 MPa and 3.75 / 2.
     AS3700 with f_mt = 0.3: stepped 2 sqrt(0.3)(1 + f_d/0.3), capped at
     4 sqrt(0.3) (reached at f_d = 0.3); line 0.44 x 3.75 + 0.56 x 0.3."""
-    joint, brick = A.lourenco_gaetani(0.36, 3.75, 0.120, 0.075)
+    joint, brick = V.lourenco_gaetani(0.36, 3.75, 0.120, 0.075)
     assert joint == pytest.approx(0.576) and brick == 1.875
-    stepped, line = A.as3700(0.3, 3.75, [0.0, 0.15, 0.5])
+    stepped, line = V.as3700(0.3, 3.75, [0.0, 0.15, 0.5])
     r = np.sqrt(0.3)
     np.testing.assert_allclose(stepped, [2 * r, 2 * r * 1.5, 4 * r])
     np.testing.assert_allclose(line, 0.44 * 3.75 + 0.56 * 0.3)

@@ -135,9 +135,9 @@ def test_the_folds_hold_whole_samples(monkeypatch):
     seen = {}
     real = A.fit_equation
 
-    def spy(f_tu, f_tj, sigma_v, strength, groups):
+    def spy(f_tu, f_tj, sigma_v, strength, groups, **kw):
         seen[len(seen)] = (np.asarray(groups).copy(), np.asarray(f_tu).copy())
-        return real(f_tu, f_tj, sigma_v, strength, groups)
+        return real(f_tu, f_tj, sigma_v, strength, groups, **kw)
 
     monkeypatch.setattr(A, "fit_equation", spy)
     ns = _runs(JOINT, BRICK, 8, 8).sample(frac=1.0, random_state=0)        # rows shuffled

@@ -6,8 +6,12 @@ sample, failure_mode, ok (the run reached its stop criteria), P_max_kN,
 strength_mpa and the random inputs f_tj_mpa, f_tu_mpa, phi_j_deg, E_b_mpa.
 Runs that are not ``ok`` are excluded from every statistic and counted.
 """
+import itertools
+import warnings
+
 import numpy as np
 import pandas as pd
+from scipy.stats import DegenerateDataWarning, bootstrap
 from sklearn.linear_model import LassoCV
 from sklearn.model_selection import GroupKFold
 from sklearn.pipeline import make_pipeline
@@ -139,7 +143,7 @@ def _lasso(X, y, groups):
     return make_pipeline(StandardScaler(), LassoCV(cv=cv, max_iter=1_000_000, tol=1e-10)).fit(X, y)
 
 
-def fit_equation(f_tu, f_tj, sigma_v, strength, groups):
+def fit_equation(f_tu, f_tj, sigma_v, strength, groups, nested=True):
     """Lasso regression of the strength (MPa) on the features, the penalty
     chosen by 5-fold cross-validation on the mean squared error
     (scikit-learn LassoCV, features standardised).  ``groups``: the sample
@@ -152,7 +156,8 @@ def fit_equation(f_tu, f_tj, sigma_v, strength, groups):
     out-of-fold predictions and their MAPE (``cv_mape``): each run
     predicted by the equation fitted, penalty chosen included, on the
     other four fifths of the samples (nested cross-validation), which is
-    the error to expect on a wallette the fit has not seen."""
+    the error to expect on a wallette the fit has not seen (left out,
+    NaN, with ``nested=False``)."""
     X = features(f_tu, f_tj, sigma_v)
     y = np.asarray(strength, float)
     groups = np.asarray(groups)
@@ -163,8 +168,8 @@ def fit_equation(f_tu, f_tj, sigma_v, strength, groups):
     coef = lasso.coef_ / scaler.scale_
     intercept = float(lasso.intercept_ - np.sum(coef * scaler.mean_))
     fitted = fit.predict(X)
-    oof = np.empty_like(y)
-    for train, test in GroupKFold(5).split(X, y, groups):
+    oof = np.full_like(y, np.nan)
+    for train, test in GroupKFold(5).split(X, y, groups) if nested else ():
         oof[test] = _lasso(X[train], y[train], groups[train]).predict(X[test])
     return dict(intercept=intercept, coef=dict(zip(FEATURES, (coef + 0.0).tolist())), alpha=float(lasso.alpha_),
                 mape=mape(y, fitted), fitted=fitted, cv_mape=mape(y, oof), cv_predicted=oof, n=int(y.size))
@@ -206,21 +211,143 @@ def prediction_over_samples(eq_joint, eq_brick, f_tu, f_tj, levels):
     return low.mean(axis=1), low.std(axis=1, ddof=1)
 
 
-# --- design rules (docs/study.md, 14) -------------------------------------------------
-def lourenco_gaetani(c_j, f_tu, overlap, unit_height):
-    """Lower bounds of Lourenco & Gaetani: stepped (joint) failure
-    f = c_j l_o / h_b; brick failure f = f_tu / 2 (MPa)."""
-    return c_j * overlap / unit_height, 0.5 * f_tu
+# --- confidence intervals (docs/study.md, 12) ----------------------------------------
+CONFIDENCE = 0.95
+MODES = ("all", "joint", "brick")
 
 
-def as3700(f_mt, f_ut, f_d):
-    """AS3700 horizontal bending at mean values (capacity factor 1,
-    k_p = 1): stepped f = 2 sqrt(f_mt)(1 + f_d / f_mt), capped at
-    4 sqrt(f_mt); line f = 0.44 f_ut + 0.56 f_mt (MPa)."""
-    f_d = np.asarray(f_d, float)
-    stepped = np.minimum(2.0 * np.sqrt(f_mt) * (1.0 + f_d / f_mt), 4.0 * np.sqrt(f_mt))
-    line = np.full_like(f_d, 0.44 * f_ut + 0.56 * f_mt)
-    return stepped, line
+def bootstrap_interval(n, statistic, resamples, seed):
+    """95 % percentile-bootstrap intervals (scipy.stats.bootstrap) of the
+    vector ``statistic`` of n samples.  ``statistic(idx)`` takes sample
+    indices, shape (batch, n), and returns an array (number of statistics,
+    batch).  Whole samples are resampled, so a sample's runs at every
+    precompression level, which share its properties, stay together.
+    Returns (low, high); NaN where some resample leaves a statistic
+    undefined (a failure mode with fewer than two runs, say)."""
+    def stat(idx, axis=-1):
+        return statistic(np.asarray(idx).reshape(-1, n))
+    if n < 2:                                # nothing to resample
+        nan = np.full(len(stat(np.arange(n))), np.nan)
+        return nan, nan
+    with np.errstate(invalid="ignore", divide="ignore"), warnings.catch_warnings():
+        # a statistic constant over the resamples (a coefficient the Lasso
+        # drops every time) has the interval [c, c]: not a degenerate case
+        warnings.simplefilter("ignore", DegenerateDataWarning)
+        ci = bootstrap((np.arange(n),), stat, n_resamples=resamples, confidence_level=CONFIDENCE,
+                       method="percentile", vectorized=True, random_state=np.random.default_rng(seed)
+                       ).confidence_interval
+    return np.asarray(ci.low, float), np.asarray(ci.high, float)
+
+
+def _wide(runs, variant, inputs):
+    """A variant's runs as arrays over (sample, level): P_max, strength,
+    the masks of the ok runs per mode of MODES (mode, sample, level) and
+    the inputs (sample, level, input).  A run missing from the table
+    counts as not ok.  Returns (levels, arrays)."""
+    g = runs[runs.variant == variant]
+    samples, levels = np.sort(g["sample"].unique()), np.sort(g.sigma_v_mpa.unique())
+    w = g.set_index(["sample", "sigma_v_mpa"]).reindex(pd.MultiIndex.from_product([samples, levels]))
+    shape = (samples.size, levels.size)
+    ok = w.ok.fillna(False).to_numpy(bool).reshape(shape)
+    mode = w.failure_mode.fillna("").to_numpy().reshape(shape)
+    return levels, dict(P=w.P_max_kN.fillna(0.0).to_numpy(float).reshape(shape),
+                        S=w.strength_mpa.fillna(0.0).to_numpy(float).reshape(shape),
+                        M=np.stack([ok, ok & (mode == "joint"), ok & (mode == "brick")]),
+                        X=np.stack([w[k].fillna(0.0).to_numpy(float).reshape(shape) for k in inputs], axis=-1))
+
+
+@np.errstate(invalid="ignore", divide="ignore")              # a mode without runs: NaN
+def _sample_statistics(d, idx):
+    """The statistics of the samples ``idx`` (batch, n) of the arrays of
+    ``_wide``: per mode and level the mean and COV of P_max, the mean
+    strength and the Pearson correlation with each input; per level the
+    brick share; per mode the increase from the first to the last level.
+    Returns dict name -> array (batch, ...)."""
+    P, S, X = d["P"][idx][:, None], d["S"][idx][:, None], d["X"][idx][:, None]   # (batch, 1, n, level[, input])
+    M = np.moveaxis(d["M"][:, idx], 0, 1)                                       # (batch, mode, n, level)
+    count = M.sum(2)
+    mean = np.where(M, P, 0.0).sum(2) / count
+    dev = np.where(M, P - mean[:, :, None], 0.0)
+    xmean = np.where(M[..., None], X, 0.0).sum(2) / count[..., None]
+    xdev = np.where(M[..., None], X - xmean[:, :, None], 0.0)
+    r = (xdev * dev[..., None]).sum(2) / np.sqrt((xdev ** 2).sum(2) * (dev ** 2).sum(2)[..., None])
+    return dict(mean=mean, cov=np.sqrt((dev ** 2).sum(2) / (count - 1)) / mean,
+                strength=np.where(M, S, 0.0).sum(2) / count, share=count[:, 2] / count[:, 0], r=r,
+                increase=mean[..., -1] / mean[..., 0] - 1.0)
+
+
+def _flat(parts):
+    """dict of arrays (batch, ...) -> one array (statistics, batch)."""
+    return np.concatenate([a.reshape(a.shape[0], -1) for a in parts.values()], axis=1).T
+
+
+def _unflat(vector, like):
+    """The inverse of ``_flat`` for one batch: dict name -> array shaped as
+    ``like``'s (without the batch axis)."""
+    parts = np.split(vector, np.cumsum([a[0].size for a in like.values()])[:-1])
+    return {name: v.reshape(a.shape[1:]) for (name, a), v in zip(like.items(), parts)}
+
+
+def study_tables(runs, resamples, seed, inputs=INPUTS):
+    """The tables of ``statistics``, ``correlations`` and ``increase`` (from
+    the lowest level to the highest), each statistic with its 95 %
+    bootstrap interval (``bootstrap_interval``, samples resampled within
+    each variant) in the columns <column>_lo and <column>_hi."""
+    stats, corr, inc = [], [], []
+    for variant in sorted(runs.variant.unique()):
+        levels, d = _wide(runs, variant, inputs)
+        n = d["P"].shape[0]
+        like = _sample_statistics(d, np.arange(n)[None])
+        lo, hi = (_unflat(v, like) for v in bootstrap_interval(
+            n, lambda idx: _flat(_sample_statistics(d, idx)), resamples, seed))
+        for (i, mode), (j, sv) in itertools.product(enumerate(MODES), enumerate(levels)):
+            key = dict(variant=variant, sigma_v_mpa=sv, mode=mode)
+            stats.append(dict(key, P_max_mean_kN_lo=lo["mean"][i, j], P_max_mean_kN_hi=hi["mean"][i, j],
+                              P_max_cov_lo=lo["cov"][i, j], P_max_cov_hi=hi["cov"][i, j],
+                              strength_mean_mpa_lo=lo["strength"][i, j], strength_mean_mpa_hi=hi["strength"][i, j],
+                              brick_share_lo=lo["share"][j], brick_share_hi=hi["share"][j]))
+            corr.append(dict(key, **{f"{x}_{e}": b["r"][i, j, k] for k, x in enumerate(inputs)
+                                     for e, b in (("lo", lo), ("hi", hi))}))
+        inc += [dict(variant=variant, mode=mode, increase_lo=lo["increase"][i], increase_hi=hi["increase"][i])
+                for i, mode in enumerate(MODES)]
+    keys = ["variant", "sigma_v_mpa", "mode"]
+    st = statistics(runs).merge(pd.DataFrame(stats), on=keys, how="left")
+    return (st, correlations(runs, inputs).merge(pd.DataFrame(corr), on=keys, how="left"),
+            increase(st, runs.sigma_v_mpa.min(), runs.sigma_v_mpa.max()).merge(pd.DataFrame(inc), how="left"))
+
+
+EQUATION_TERMS = ("intercept",) + FEATURES + ("mape_pct",)
+
+
+def equation_intervals(ns, resamples, seed, progress=None):
+    """95 % bootstrap intervals (``bootstrap_interval``, whole samples
+    resampled) of the prediction equations of ``prediction_equations``:
+    per mode the intercept, the coefficients and the MAPE of the fit
+    (each resample refits, penalty chosen by cross-validation included;
+    the nested cross-validation is left out), and the lower-of-two MAPE.
+    NaN where a resample leaves a mode too few samples to fit.  Returns a
+    frame with the column mode and <term>_lo, <term>_hi."""
+    samples = np.sort(ns["sample"].unique())
+    by_sample = [ns[ns["sample"] == s] for s in samples]
+
+    def one(idx):
+        fits, rows, _ = prediction_equations(pd.concat([by_sample[i] for i in idx]), nested=False)
+        rows = {r["mode"]: r for r in rows}
+        return [rows.get(m, {}).get(t, np.nan) for m in ("joint", "brick") for t in EQUATION_TERMS] + \
+            [rows.get("lower of two", {}).get("mape_pct", np.nan)]
+
+    def statistic(idx):
+        out = []
+        for k, i in enumerate(idx):
+            out.append(one(i))
+            if progress and (k + 1) % 100 == 0:
+                progress(k + 1, len(idx))
+        return np.array(out, float).T
+    lo, hi = bootstrap_interval(samples.size, statistic, resamples, seed)
+    n = len(EQUATION_TERMS)
+    rows = [dict(mode=m, **{f"{t}_{e}": b[k * n + j] for j, t in enumerate(EQUATION_TERMS)
+                            for e, b in (("lo", lo), ("hi", hi))}) for k, m in enumerate(("joint", "brick"))]
+    return pd.DataFrame(rows + [dict(mode="lower of two", mape_pct_lo=lo[-1], mape_pct_hi=hi[-1])])
 
 
 # --- the prediction against the simulations and the design rules -------------------
@@ -230,7 +357,7 @@ def scatter_level(runs, near=0.25):
     return levels[np.argmin(np.abs(levels - near))]
 
 
-def prediction_equations(ns):
+def prediction_equations(ns, nested=True):
     """Per failure mode, the equation fitted to the runs ``ns`` (the ok
     non-spatial runs) when they span MIN_GROUPS samples; then the
     predictor, the lower of the two (with one equation it stands for both),
@@ -244,13 +371,13 @@ def prediction_equations(ns):
             rows.append(dict(mode=mode, n=len(g), equation=f"too few runs to fit ({g['sample'].nunique()} samples, "
                                                               f"the nested 5-fold CV needs {MIN_GROUPS})"))
             continue
-        eq = fit_equation(g.f_tu_mpa, g.f_tj_mpa, g.sigma_v_mpa, g.strength_mpa, g["sample"])
+        eq = fit_equation(g.f_tu_mpa, g.f_tj_mpa, g.sigma_v_mpa, g.strength_mpa, g["sample"], nested=nested)
         fits[mode] = (eq, g.strength_mpa.to_numpy())
         rows.append(dict(mode=mode, n=eq["n"], alpha=eq["alpha"], mape_pct=eq["mape"], cv_mape_pct=eq["cv_mape"],
                          intercept=eq["intercept"], **eq["coef"], equation=equation_text(eq)))
     resid_sd = np.nan
     if fits:
-        low, low_mode = lower_of_two(*_pair(fits), ns.f_tu_mpa, ns.f_tj_mpa, ns.sigma_v_mpa)
+        low, low_mode = lower_of_two(*joint_and_brick(fits), ns.f_tu_mpa, ns.f_tj_mpa, ns.sigma_v_mpa)
         resid_sd = float(np.std(ns.strength_mpa - low, ddof=1))
         rows.append(dict(mode="lower of two", n=len(ns), mape_pct=mape(ns.strength_mpa, low),
                          mode_agreement=float(np.mean(low_mode == ns.failure_mode.to_numpy())),
@@ -259,7 +386,7 @@ def prediction_equations(ns):
     return fits, rows, resid_sd
 
 
-def _pair(fits):
+def joint_and_brick(fits):
     """The joint and the brick equation; with one, it stands for both."""
     eqs = {m: e for m, (e, _) in fits.items()}
     return eqs.get("joint", eqs.get("brick")), eqs.get("brick", eqs.get("joint"))
@@ -269,48 +396,3 @@ def mean_strengths():
     """f_tu and f_tj (MPa) at the means of their distributions."""
     mean = {v.name: v.mean for v in STUDY_VARIABLES}
     return mean["f_tu"] / 1e6, mean["f_tj"] / 1e6
-
-
-def wallette_geometry(scene):
-    """What the design rules need of the scene (m): the overlap l_o = bond
-    offset x modelled unit length, the height h_b of a modelled unit (unit +
-    joint) and the joints' c_ratio (c_j = c_ratio f_tj)."""
-    g, j = scene.geometry, scene.materials.joints
-    return dict(l_o=g.bond_overlap, h_b=g.modelled_unit[2], c_ratio=j.c_ratio)
-
-
-def design_table(fits, ns, resid_sd, levels, geometry):
-    """Against the precompression ``levels``: the lower-of-two prediction
-    at the mean properties with a band of one standard deviation, which
-    combines the scatter of the prediction over the sampled properties
-    (f_tu, f_tj of the samples of ``ns``) with the residual scatter the
-    equations leave (phi_j, E_b and the misfit); the prediction's mean over
-    the samples; the Lourenco-Gaetani and AS3700 rules at the mean
-    properties (AS3700 f_mt from f_tj, the flexural bond ~ the joint's
-    tensile bond, f_ut from f_tu).  NaN predictions without an equation."""
-    f_tu, f_tj = mean_strengths()
-    pred = band = prop_sd = prop_mean = np.full_like(levels, np.nan)
-    if fits:
-        joint, brick = _pair(fits)
-        pred, _ = lower_of_two(joint, brick, np.full_like(levels, f_tu), np.full_like(levels, f_tj), levels)
-        props = ns.drop_duplicates("sample")            # the properties of every sample with an ok run
-        prop_mean, prop_sd = prediction_over_samples(joint, brick, props.f_tu_mpa, props.f_tj_mpa, levels)
-        band = np.sqrt(prop_sd ** 2 + resid_sd ** 2)
-    lg = lourenco_gaetani(geometry["c_ratio"] * f_tj, f_tu, geometry["l_o"], geometry["h_b"])
-    as_stepped, as_line = as3700(f_tj, f_tu, levels)
-    return pd.DataFrame(dict(sigma_v_mpa=levels, prediction=pred, band_sd=band, property_sd=prop_sd,
-                             mean_over_samples=prop_mean, lg_stepped=lg[0], lg_brick=lg[1], as3700_stepped=as_stepped,
-                             as3700_line=as_line))
-
-
-def typical_run(runs, variant, mode):
-    """The run to picture for a variant and failure mode: at the level where
-    the mode is most frequent among the ok runs, the run nearest the
-    median P_max of the mode there.  Returns (run, the mode's runs at that
-    level), or (None, None) when no run failed in that mode."""
-    group = runs[(runs.variant == variant) & (runs.failure_mode == mode) & runs.ok]
-    if group.empty:
-        return None, None
-    sv = group.sigma_v_mpa.value_counts().sort_index().idxmax()
-    at = group[group.sigma_v_mpa == sv]
-    return at.iloc[(at.P_max_kN - at.P_max_kN.median()).abs().argmin()], at

@@ -137,8 +137,11 @@ def statistics(runs, stats, corr, inc):
 
     bad = runs[~runs.ok]
     stat_lines = [f"{r.variant}, {r.sigma_v_mpa:g} MPa: mean **{r.P_max_mean_kN:.2f} kN** "
-                  f"({r.strength_mean_mpa:.3f} MPa), COV **{r.P_max_cov:.3f}**, {r.count} runs, "
-                  f"{100 * r.brick_share:.0f} % brick failures" for r in stats[stats["mode"] == "all"].itertuples()]
+                  f"({_num(r.P_max_mean_kN_lo, '.2f')} to {_num(r.P_max_mean_kN_hi, '.2f')}; "
+                  f"{r.strength_mean_mpa:.3f} MPa), COV **{r.P_max_cov:.3f}** ({_num(r.P_max_cov_lo, '.3f')} to "
+                  f"{_num(r.P_max_cov_hi, '.3f')}), {r.count} runs, {100 * r.brick_share:.0f} % brick failures "
+                  f"({_num(100 * r.brick_share_lo, '.0f')} to {_num(100 * r.brick_share_hi, '.0f')} %)"
+                  for r in stats[stats["mode"] == "all"].itertuples()]
     corr_lines = []
     for r in corr[corr["mode"] == "all"].itertuples():
         vals = {n: getattr(r, n) for n in A.INPUTS}
@@ -152,8 +155,9 @@ def statistics(runs, stats, corr, inc):
                                          + ")") if len(bad) else ""),
         correlations=dict(lines=_bullets(corr_lines), noise=noise, field_spread=spread("spatial"),
                           point_spread=spread("nonspatial")),
-        increase=dict(lines="; ".join(f"{r.variant} {r.mode} **{100 * r.increase:+.0f} %**"
-                                      for r in inc.dropna().itertuples())
+        increase=dict(lines="; ".join(f"{r.variant} {r.mode} **{100 * r.increase:+.0f} %** "
+                                      f"({_num(100 * r.increase_lo, '+.0f')} to {_num(100 * r.increase_hi, '+.0f')} %)"
+                                      for r in inc.dropna(subset=["increase"]).itertuples())
                       + f" (from {levels[0]:g} to {levels[-1]:g} MPa)"))
 
 
@@ -193,7 +197,7 @@ def study_figures(runs, stats, corr, sv_scatter):
 
 def study_pictures(picked):
     """The pictured runs: (variant, mode, run, the mode's runs at the run's
-    level) as analysis.typical_run picks them (run None: no run failed in
+    level) as figures.typical_run picks them (run None: no run failed in
     that mode)."""
     lines = []
     for variant, mode, pick, at in picked:
@@ -223,11 +227,11 @@ def equations(rows):
 
 
 def design_comparison(design, simulated, fitted, resid_sd, n_samples, geometry):
-    """The design comparison (analysis.design_table) at the simulated
+    """The design comparison (validation.design_table) at the simulated
     levels (``simulated``: mean and std of the strength by sigma_v_mpa);
     ``fitted``: the modes with an equation; ``resid_sd``: the predictor's
     residual scatter (MPa); ``n_samples``: the sampled property sets;
-    ``geometry``: analysis.wallette_geometry."""
+    ``geometry``: validation.wallette_geometry."""
     lines = []
     for sv in simulated.index:
         at = {k: float(np.interp(sv, design.sigma_v_mpa, design[k])) for k in design.columns}
@@ -243,6 +247,31 @@ def design_comparison(design, simulated, fitted, resid_sd, n_samples, geometry):
                 equations=("the joint and brick equations" if len(fitted) == 2 else
                            f"the {fitted[0]} equation alone (too few runs of the other mode)" if fitted
                            else "no equation (too few runs)"))
+
+
+def paper_comparison(card):
+    """The scorecard (validation.paper_comparison): how many published
+    figures lie inside our intervals, item by item, and the main offsets."""
+    have = card[card.paper_inside.notna()]
+    inside = [f"{item}: **{int(g.paper_inside.astype(bool).sum())} of {len(g)}**"      # coefficients together
+              for item, g in have.groupby(have.item.str.split(":").str[0], sort=False)]
+    means = card[(card.item == "F_max mean (kN)") & (card["mode"] == "all")]
+    eq10 = card[card.item.str.startswith("Eq. 10 on our runs")].set_index(["item", "mode"]).ours
+    counts = card[card.item.str.startswith("failures")].set_index("mode")
+    lines = [f"the paper's value inside our 95 % interval: {'; '.join(inside)}"]
+    if len(means):
+        lines.append("all-data mean F_max, ours against the paper's: " + ", ".join(
+            f"{r.sigma_v_mpa:g} MPa {r.ours:.2f} / {r.paper:.2f} kN (**{r.difference_pct:+.1f} %**)"
+            for r in means.itertuples()))
+    if "brick" in counts.index:
+        b = counts.loc["brick"]
+        lines.append(f"brick failures: **{b.ours:.0f}** ({b.ours_lo:.0f} to {b.ours_hi:.0f}) against the paper's "
+                     f"{b.paper:.0f}")
+    mape, bias = (("Eq. 10 on our runs: MAPE (%)", "lower of two"), ("Eq. 10 on our runs: bias (%)", "lower of two"))
+    if mape in eq10.index:
+        lines.append(f"the paper's Eq. 10 (lower of its two) on our runs: MAPE **{eq10[mape]:.1f} %**, "
+                     f"bias **{eq10[bias]:+.1f} %**")
+    return dict(lines=_bullets(lines))
 
 
 # --- the accuracy study -------------------------------------------------------------

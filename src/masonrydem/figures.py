@@ -35,11 +35,19 @@ def running_mean(runs, path):
     _save(fig, path)
 
 
+def _with_interval(ax, x, y, lo, hi, fmt, **kw):
+    """A line with error bars from its interval (lo, hi)."""
+    y, lo, hi = (np.asarray(a, float) for a in (y, lo, hi))
+    ax.errorbar(x, y, yerr=[y - lo, hi - y], fmt=fmt, capsize=3, **kw)
+
+
 def brick_share(stats, path):
-    """Share of brick failures against precompression, both variants."""
+    """Share of brick failures against precompression, both variants,
+    with their 95 % intervals."""
     fig, ax = plt.subplots(figsize=(6, 4))
     for variant, g in stats[stats["mode"] == "all"].groupby("variant"):
-        ax.plot(g.sigma_v_mpa, 100 * g.brick_share, "o-", label=variant)
+        _with_interval(ax, g.sigma_v_mpa, 100 * g.brick_share, 100 * g.brick_share_lo, 100 * g.brick_share_hi,
+                       "o-", label=variant)
     ax.set_xlabel("sigma_v (MPa)")
     ax.set_ylabel("brick failures (%)")
     ax.grid(alpha=0.3)
@@ -54,8 +62,9 @@ def correlation_vs_sigma(corr, path):
     fig, axes = plt.subplots(1, len(variants), figsize=(5.5 * len(variants), 4), sharey=True, squeeze=False)
     for ax, variant in zip(axes[0], variants):
         g = corr[(corr.variant == variant) & (corr["mode"] == "all")]
-        for name in A.INPUTS:
-            ax.plot(g.sigma_v_mpa, g[name], "o-", label=name)
+        for k, name in enumerate(A.INPUTS):     # shifted a little apart, so that the bars stay readable
+            _with_interval(ax, g.sigma_v_mpa + 0.004 * (k - 1.5), g[name], g[f"{name}_lo"], g[f"{name}_hi"], "o-",
+                           label=name)
         ax.set_title(variant)
         ax.set_xlabel("sigma_v (MPa)")
         ax.axhline(0, color="k", lw=0.5)
@@ -135,7 +144,7 @@ def predicted_vs_simulated(fits, path):
 
 
 def design_comparison(design, simulated, path):
-    """The design table (analysis.design_table) against sigma_v: the
+    """The design table (validation.design_table) against sigma_v: the
     lower-of-two prediction at mean properties with a +-1 SD band, its mean
     over the sampled properties, the Lourenco-Gaetani and AS3700 rules,
     beside the simulated strengths (``simulated``: mean and std by
@@ -265,3 +274,33 @@ def placeholder(text, path):
     ax.text(0.5, 0.5, text, ha="center", va="center")
     fig.savefig(path)
     plt.close(fig)
+
+
+def paper_comparison(card, path):
+    """The scorecard's F_max means and COVs against precompression, per
+    failure mode: ours with their 95 % intervals, the paper's as crosses."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    colours = {"all": "k", **MODES}
+    for ax, item in zip(axes, ("F_max mean (kN)", "F_max COV")):
+        for mode, g in card[card.item == item].groupby("mode"):
+            _with_interval(ax, g.sigma_v_mpa, g.ours, g.ours_lo, g.ours_hi, "o-", color=colours[mode],
+                           label=f"{mode}: ours")
+            ax.plot(g.sigma_v_mpa, g.paper, "x--", color=colours[mode], ms=9, label=f"{mode}: paper")
+        ax.set_xlabel("sigma_v (MPa)")
+        ax.set_ylabel(item)
+        ax.grid(alpha=0.3)
+    axes[-1].legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    _save(fig, path)
+
+
+def typical_run(runs, variant, mode):
+    """The run to picture for a variant and failure mode: at the level where
+    the mode is most frequent among the ok runs, the run nearest the
+    median P_max of the mode there.  Returns (run, the mode's runs at that
+    level), or (None, None) when no run failed in that mode."""
+    group = runs[(runs.variant == variant) & (runs.failure_mode == mode) & runs.ok]
+    if group.empty:
+        return None, None
+    sv = group.sigma_v_mpa.value_counts().sort_index().idxmax()
+    at = group[group.sigma_v_mpa == sv]
+    return at.iloc[(at.P_max_kN - at.P_max_kN.median()).abs().argmin()], at

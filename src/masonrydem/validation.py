@@ -4,6 +4,8 @@ mesh."""
 import numpy as np
 import pandas as pd
 
+from . import analysis as A
+
 
 def initial_stiffness(curve, lo=0.1, hi=0.4):
     """Slope (kN/mm) of a straight line fitted to the pre-peak points of the
@@ -145,3 +147,170 @@ def specimen_figure(table, curves, path):
     fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)
+
+
+# --- design rules (docs/study.md, 14) -------------------------------------------------
+def lourenco_gaetani(c_j, f_tu, overlap, unit_height):
+    """Lower bounds of Lourenco & Gaetani: stepped (joint) failure
+    f = c_j l_o / h_b; brick failure f = f_tu / 2 (MPa)."""
+    return c_j * overlap / unit_height, 0.5 * f_tu
+
+
+def as3700(f_mt, f_ut, f_d):
+    """AS3700 horizontal bending at mean values (capacity factor 1,
+    k_p = 1): stepped f = 2 sqrt(f_mt)(1 + f_d / f_mt), capped at
+    4 sqrt(f_mt); line f = 0.44 f_ut + 0.56 f_mt (MPa)."""
+    f_d = np.asarray(f_d, float)
+    stepped = np.minimum(2.0 * np.sqrt(f_mt) * (1.0 + f_d / f_mt), 4.0 * np.sqrt(f_mt))
+    line = np.full_like(f_d, 0.44 * f_ut + 0.56 * f_mt)
+    return stepped, line
+
+
+def wallette_geometry(scene):
+    """What the design rules need of the scene (m): the overlap l_o = bond
+    offset x modelled unit length, the height h_b of a modelled unit (unit +
+    joint) and the joints' c_ratio (c_j = c_ratio f_tj)."""
+    g, j = scene.geometry, scene.materials.joints
+    return dict(l_o=g.bond_overlap, h_b=g.modelled_unit[2], c_ratio=j.c_ratio)
+
+
+def design_table(fits, ns, resid_sd, levels, geometry):
+    """Against the precompression ``levels``: the lower-of-two prediction
+    at the mean properties with a band of one standard deviation, which
+    combines the scatter of the prediction over the sampled properties
+    (f_tu, f_tj of the samples of ``ns``) with the residual scatter the
+    equations leave (phi_j, E_b and the misfit); the prediction's mean over
+    the samples; the Lourenco-Gaetani and AS3700 rules at the mean
+    properties (AS3700 f_mt from f_tj, the flexural bond ~ the joint's
+    tensile bond, f_ut from f_tu).  NaN predictions without an equation."""
+    f_tu, f_tj = A.mean_strengths()
+    pred = band = prop_sd = prop_mean = np.full_like(levels, np.nan)
+    if fits:
+        joint, brick = A.joint_and_brick(fits)
+        pred, _ = A.lower_of_two(joint, brick, np.full_like(levels, f_tu), np.full_like(levels, f_tj), levels)
+        props = ns.drop_duplicates("sample")            # the properties of every sample with an ok run
+        prop_mean, prop_sd = A.prediction_over_samples(joint, brick, props.f_tu_mpa, props.f_tj_mpa, levels)
+        band = np.sqrt(prop_sd ** 2 + resid_sd ** 2)
+    lg = lourenco_gaetani(geometry["c_ratio"] * f_tj, f_tu, geometry["l_o"], geometry["h_b"])
+    as_stepped, as_line = as3700(f_tj, f_tu, levels)
+    return pd.DataFrame(dict(sigma_v_mpa=levels, prediction=pred, band_sd=band, property_sd=prop_sd,
+                             mean_over_samples=prop_mean, lg_stepped=lg[0], lg_brick=lg[1], as3700_stepped=as_stepped,
+                             as3700_line=as_line))
+
+
+# --- the source paper side by side (docs/findings.md, "The paper side by side") -------
+def paper_equation(paper, mode):
+    """The paper's Eq. 10 for ``mode`` as an equation for analysis.predict
+    (a term it does not have has coefficient 0)."""
+    c = paper["equations"][mode]
+    return dict(intercept=float(c["intercept"]), coef={k: float(c.get(k, 0.0)) for k in A.FEATURES})
+
+
+def _card_row(item, mode, sv, paper, ours, lo=np.nan, hi=np.nan):
+    """One line of the scorecard; the difference in % of the paper's value."""
+    return dict(item=item, mode=mode, sigma_v_mpa=sv, paper=paper, ours=ours, ours_lo=lo, ours_hi=hi,
+                difference_pct=100.0 * (ours / paper - 1.0) if paper else np.nan,
+                paper_inside=bool(lo <= paper <= hi) if np.isfinite([paper, lo, hi]).all() else None)
+
+
+def _per_sample(runs, values):
+    """Sums of ``values`` (a column per statistic) and run counts per sample:
+    the parts of a ratio statistic whose samples are resampled whole."""
+    g = pd.DataFrame(values, index=runs.index).assign(_n=1.0).groupby(runs["sample"]).sum()
+    return g.drop(columns="_n").to_numpy(), g["_n"].to_numpy()
+
+
+def _ratio_rows(runs, values, resamples, seed):
+    """Point estimates and 95 % bootstrap intervals of sum(values) / runs."""
+    num, den = _per_sample(runs, values)
+    lo, hi = A.bootstrap_interval(len(den), lambda i: (num[i].sum(1) / den[i].sum(1)[:, None]).T, resamples, seed)
+    return num.sum(0) / den.sum(), lo, hi
+
+
+def paper_comparison(paper, runs, stats, inc, equations, resamples, seed, settle_tol=0.01):
+    """The scorecard: every published figure of ``paper`` (config/paper.yaml)
+    beside ours on the same variant, with our 95 % interval (from the
+    tables' _lo/_hi columns, or resampled here), the difference and
+    whether the paper's value lies inside.  Also the paper's Eq. 10 on our
+    runs (MAPE, bias), both equations at the mean properties (P_max, kN),
+    and the run (in sample order) from which the running mean at the
+    highest level stays within ``settle_tol`` of its final value."""
+    v = paper["variant"]
+    runs = runs[(runs.variant == v) & runs.ok]
+    st = stats[stats.variant == v].set_index(["mode", "sigma_v_mpa"])
+    rows = []
+    for mode, fig in paper["f_max_kN"].items():
+        for sv, mean, cov in zip(paper["precompression_mpa"], fig["mean"], fig["cov"]):
+            hit = [k for k in st.index if k[0] == mode and np.isclose(k[1], sv)]
+            if hit:
+                r = st.loc[hit[0]]
+                rows += [_card_row("F_max mean (kN)", mode, sv, mean, r.P_max_mean_kN, r.P_max_mean_kN_lo,
+                                   r.P_max_mean_kN_hi),
+                         _card_row("F_max COV", mode, sv, cov, r.P_max_cov, r.P_max_cov_lo, r.P_max_cov_hi)]
+    modes = runs.failure_mode.to_numpy()
+    share, lo, hi = _ratio_rows(runs, np.column_stack([modes == "joint", modes == "brick"]), resamples, seed)
+    total = sum(paper["failures"].values())
+    rows += [_card_row(f"failures (of {total} runs)", m, np.nan, paper["failures"][m], share[k] * total,
+                       lo[k] * total, hi[k] * total) for k, m in enumerate(("joint", "brick"))]
+    i = inc[inc.variant == v].set_index("mode")
+    rows += [_card_row("increase of the mean, lowest to highest level (%)", m, np.nan, p, 100 * i.increase[m],
+                       100 * i.increase_lo[m], 100 * i.increase_hi[m]) for m, p in paper["increase_pct"].items()
+             if m in i.index]
+    eqs = equations.set_index("mode")
+    for m in ("joint", "brick"):
+        if m in eqs.index and np.isfinite(eqs.intercept.get(m, np.nan)):
+            p = paper_equation(paper, m)
+            rows += [_card_row(f"Eq. 10 coefficient: {t}", m, np.nan, (p["coef"] | {"intercept": p["intercept"]})[t],
+                               eqs.loc[m, t], eqs.loc[m, f"{t}_lo"], eqs.loc[m, f"{t}_hi"])
+                     for t in ("intercept",) + A.FEATURES]
+    if "lower of two" in eqs.index:
+        r = eqs.loc["lower of two"]
+        rows.append(_card_row("Eq. 10 MAPE (%)", "lower of two", np.nan, paper["equations"]["mape_pct"], r.mape_pct,
+                              r.mape_pct_lo, r.mape_pct_hi))
+    rows += _paper_equation_on_runs(paper, runs, resamples, seed)
+    rows += _equations_at_means(paper, eqs)
+    top = runs[np.isclose(runs.sigma_v_mpa, max(paper["precompression_mpa"]))].sort_values("sample")
+    if len(top):
+        rm = A.running_mean(top.P_max_kN)
+        off = np.flatnonzero(np.abs(rm / rm[-1] - 1.0) > settle_tol)
+        rows.append(_card_row(f"running mean within {100 * settle_tol:g} % of its final value from run", "all",
+                              max(paper["precompression_mpa"]), paper["running_mean_settles_after"],
+                              float(off[-1] + 2 if off.size else 1)))
+    return pd.DataFrame(rows)
+
+
+def _paper_equation_on_runs(paper, runs, resamples, seed):
+    """The paper's Eq. 10 scored on our runs of each mode, and the lower of
+    its two on all: MAPE and bias (mean of (predicted - simulated) /
+    simulated), in %."""
+    rows = []
+    joint, brick = paper_equation(paper, "joint"), paper_equation(paper, "brick")
+    low, _ = A.lower_of_two(joint, brick, runs.f_tu_mpa, runs.f_tj_mpa, runs.sigma_v_mpa)
+    for m, pred in (("joint", A.predict(joint, runs.f_tu_mpa, runs.f_tj_mpa, runs.sigma_v_mpa)),
+                    ("brick", A.predict(brick, runs.f_tu_mpa, runs.f_tj_mpa, runs.sigma_v_mpa)), ("lower of two", low)):
+        sel = (runs.failure_mode == m).to_numpy() if m != "lower of two" else np.ones(len(runs), bool)
+        if sel.sum() == 0:
+            continue
+        e = 100.0 * (pred[sel] - runs.strength_mpa.to_numpy()[sel]) / runs.strength_mpa.to_numpy()[sel]
+        est, lo, hi = _ratio_rows(runs[sel], np.column_stack([np.abs(e), e]), resamples, seed)
+        own = paper["equations"]["mape_pct"] if m == "lower of two" else np.nan     # its MAPE on its own runs
+        rows += [_card_row(f"Eq. 10 on our runs: {name} (%)", m, np.nan, p, est[k], lo[k], hi[k])
+                 for k, (name, p) in enumerate((("MAPE", own), ("bias", np.nan)))]
+    return rows
+
+
+def _equations_at_means(paper, eqs):
+    """P_max (kN) at the mean properties and each of the paper's levels by
+    the paper's Eq. 10 and by ours, mode by mode."""
+    f_tu, f_tj = A.mean_strengths()
+    eq = paper["equations"]
+    per_kN = 6.0 * eq["moment_arm_m"] / (eq["section_b_m"] * eq["section_h_m"] ** 2) / 1e3   # MPa per kN
+    rows = []
+    for m in ("joint", "brick"):
+        if m not in eqs.index or not np.isfinite(eqs.intercept.get(m, np.nan)):
+            continue
+        ours = dict(intercept=eqs.loc[m, "intercept"], coef={t: eqs.loc[m, t] for t in A.FEATURES})
+        for sv in paper["precompression_mpa"]:
+            p, o = (float(A.predict(e, f_tu, f_tj, sv)[0]) / per_kN for e in (paper_equation(paper, m), ours))
+            rows.append(_card_row("equation at the mean properties: P_max (kN)", m, sv, p, o))
+    return rows

@@ -40,7 +40,32 @@ rule regression:
         design_table=report(f"{R}/study/design_comparison.csv", caption=get_caption("design_comparison"),
                             category="Prediction"),
         captions=[get_caption(n) for n in REGRESSION_CAPTIONS],
+    params:
+        bootstrap=config["study"]["bootstrap"],
     log:
         f"{R}/logs/study/regression.log",
     script:
         "../scripts/regression.py"
+
+
+rule scorecard:
+    """The source paper's published figures beside ours, with our intervals."""
+    input:
+        runs=f"{R}/study/runs.parquet",
+        statistics=f"{R}/study/statistics.csv",
+        increase=f"{R}/study/increase.csv",
+        equations=f"{R}/study/equations.csv",
+        paper=config["study"]["paper"],
+        template=get_template("paper_comparison"),
+    output:
+        table=report(f"{R}/study/paper_comparison.csv", caption=get_caption("paper_comparison"),
+                     category="Paper side by side"),
+        figure=report(f"{R}/study/paper_comparison.png", caption=get_caption("paper_comparison"),
+                      category="Paper side by side"),
+        caption=get_caption("paper_comparison"),
+    params:
+        bootstrap=config["study"]["bootstrap"],
+    log:
+        f"{R}/logs/study/scorecard.log",
+    script:
+        "../scripts/scorecard.py"

@@ -115,7 +115,7 @@ def get_fine_sets(wildcards):
 def get_study_outputs():
     names = ("statistics.csv", "correlations.csv", "increase.csv", "sampling_check.csv", "running_mean.png",
              "brick_share.png", "correlation_vs_sigma.png", "scatter_deviation.png", "curves_by_mode.png",
-             "equations.csv", "predicted_vs_simulated.png", "design_comparison.png")
+             "equations.csv", "predicted_vs_simulated.png", "design_comparison.png", "paper_comparison.csv")
     return [*(f"{R}/study/pictures/{v}_{m}.png" for v, m in plan.study_pictures(config)),
             *(f"{R}/study/{name}" for name in names)]
 

@@ -74,6 +74,8 @@ rule statistics:
         correlations=report(f"{R}/study/correlations.csv", caption=get_caption("correlations"), category="Study"),
         increase=report(f"{R}/study/increase.csv", caption=get_caption("increase"), category="Study"),
         captions=[get_caption(n) for n in STATISTICS_CAPTIONS],
+    params:
+        bootstrap=config["study"]["bootstrap"],
     log:
         f"{R}/logs/study/statistics.log",
     script:

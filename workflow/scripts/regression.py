@@ -12,15 +12,20 @@ import pandas as pd  # noqa: E402
 from masonrydem import analysis as A  # noqa: E402
 from masonrydem import captions  # noqa: E402
 from masonrydem import figures as F  # noqa: E402
+from masonrydem import validation as V  # noqa: E402
 from masonrydem.scene import load_scene  # noqa: E402
 
 runs = pd.read_parquet(sm.input.runs)
 ns = runs[runs.ok & (runs.variant == "nonspatial")]
 fits, rows, resid_sd = A.prediction_equations(ns)
-pd.DataFrame(rows).to_csv(sm.output.equations, index=False, float_format="%.5g")
+# the equations' 95 % intervals: every resample refits both modes
+intervals = A.equation_intervals(ns, **sm.params.bootstrap,
+                                 progress=lambda k, n: print(f"bootstrap: {k} of {n} resamples", flush=True))
+pd.DataFrame(rows).merge(intervals, on="mode", how="left").to_csv(sm.output.equations, index=False,
+                                                                  float_format="%.5g")
 F.predicted_vs_simulated(fits, sm.output.predicted)
-geometry = A.wallette_geometry(load_scene(sm.input.scene))
-design = A.design_table(fits, ns, resid_sd, np.linspace(0.0, max(runs.sigma_v_mpa.max(), 0.5), 51), geometry)
+geometry = V.wallette_geometry(load_scene(sm.input.scene))
+design = V.design_table(fits, ns, resid_sd, np.linspace(0.0, max(runs.sigma_v_mpa.max(), 0.5), 51), geometry)
 simulated = ns.groupby("sigma_v_mpa").strength_mpa.agg(["mean", "std"])
 F.design_comparison(design, simulated, sm.output.design)
 design.to_csv(sm.output.design_table, index=False, float_format="%.5g")

@@ -1,4 +1,4 @@
-"""3-D pictures of typical study runs (analysis.typical_run), each run
+"""3-D pictures of typical study runs (figures.typical_run), each run
 again with its final state (the rerun must repeat the recorded P_max
 exactly: runs are bit-for-bit repeatable)."""
 import sys
@@ -12,7 +12,7 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 import pandas as pd  # noqa: E402
 
 from masonrydem import captions, figures  # noqa: E402
-from masonrydem.analysis import typical_run  # noqa: E402
+from masonrydem.figures import typical_run  # noqa: E402
 from masonrydem.plan import pressure  # noqa: E402
 from masonrydem.protocol import simulate  # noqa: E402
 from masonrydem.results import outcome_row, read_json  # noqa: E402
