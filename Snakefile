@@ -13,6 +13,7 @@ include: "workflow/rules/accuracy.smk"
 include: "workflow/rules/stability.smk"
 include: "workflow/rules/reduced.smk"
 include: "workflow/rules/specimens.smk"
+include: "workflow/rules/modelform.smk"
 
 
 # the report's landing page: what was run, how, the key table, where to

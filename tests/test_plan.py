@@ -107,6 +107,43 @@ def test_reduced_runs_and_overrides():
     assert plan.reduced_runs({}) == []
 
 
+def test_modelform_runs_and_overrides():
+    """Per case and level the baseline and every option of every
+    assumption; an option's overrides come after the numerics, its case's
+    and the level's, so that they replace what those set."""
+    config = _config(modelform={
+        "cases": [{"name": "joint", "overrides": []}, {"name": "brick", "overrides": ["materials.joints.ft=1.0e6"]}],
+        "precompression_mpa": [0.0, 0.5],
+        "assumptions": [{"name": "strip_width", "what": "", "why": "", "options": [
+            {"label": "10 mm", "overrides": ["loading.bending.strip_width=0.01"]},
+            {"label": "40 mm", "overrides": ["loading.bending.strip_width=0.04"]}]},
+            {"name": "law", "what": "", "why": "", "options": [
+                {"label": "brittle", "overrides": ["physics.joints=brittle_coulomb",
+                                                   "loading.bending.rate=1e-8"]}]}]})
+    runs = plan.modelform_runs(config)
+    assert len(runs) == 2 * 2 * (1 + 2 + 1)
+    assert runs[:4] == [("joint", 0.0, "baseline"), ("joint", 0.0, "strip_width_1"), ("joint", 0.0, "strip_width_2"),
+                        ("joint", 0.0, "law_1")]
+    assert plan.modelform_overrides(config, "brick", "0.5", "strip_width_2") == NUMERICS + [
+        "materials.joints.ft=1.0e6", "loading.precompression.pressure=500000.0", "loading.bending.strip_width=0.04"]
+    assert plan.modelform_overrides(config, "joint", "0.0", "law_1") == NUMERICS[:2] + [
+        "loading.precompression.pressure=0.0", "physics.joints=brittle_coulomb", "loading.bending.rate=1e-8"]
+    assert plan.modelform_overrides(config, "joint", "0.0", "baseline") == NUMERICS + [
+        "loading.precompression.pressure=0.0"]
+    assert plan.modelform_runs({}) == []
+
+
+def test_the_projects_config_plans_its_modelform_study():
+    """config/config.yaml: at least 10 assumptions x 3 levels x 2 modes
+    (issue 33), every option's scene accepted at planning."""
+    with open("config/config.yaml") as f:
+        config = yaml.safe_load(f)
+    m = config["modelform"]
+    assert len(m["assumptions"]) >= 10 and len(m["precompression_mpa"]) == 3 and len(m["cases"]) == 2
+    assert all(a["why"] and a["what"] for a in m["assumptions"])
+    plan.check(config)
+
+
 def test_specimens_and_study_pictures():
     config = {"specimens": [{"name": "t", "scene": "t.yaml", "overrides": []}],
               "study": {"variants": ["nonspatial", "spatial"]}}

@@ -102,3 +102,21 @@ def test_specimen_table_triplet_closed_forms():
     assert r.residual_closed_form_mpa == pytest.approx(0.2 * mu, rel=1e-12)
     assert r.end_stress_mpa == pytest.approx(0.4 * 0.5, rel=1e-12)
     assert r.peak_error == pytest.approx(0.5 / (0.36 + 0.2 * mu) - 1.0, rel=1e-12)
+
+
+def test_modelform_table_against_its_baselines():
+    """Each run's change is measured against the baseline of its own case
+    and level: 11 kN against 10 kN is +10 %, 9 against 12 is -25 %; a
+    changed failure mode is flagged; the baseline's own change is 0."""
+    from masonrydem.validation import modelform_table
+
+    def row(P, mode="joint"):
+        return dict(P_max_kN=P, failure_mode=mode, status="load_drop", steps=1000)
+    results = {("joint", 0.0, "baseline"): row(10.0), ("joint", 0.0, "strip_1"): row(11.0),
+               ("joint", 0.5, "baseline"): row(12.0), ("joint", 0.5, "strip_1"): row(9.0, "brick")}
+    assumptions = [{"name": "strip", "what": "", "why": "", "options": [{"label": "40 mm", "overrides": []}]}]
+    t = modelform_table(results, assumptions).set_index(["sigma_v_mpa", "assumption"])
+    assert t.loc[(0.0, "strip"), "change_pct"] == pytest.approx(10.0)
+    assert t.loc[(0.5, "strip"), "change_pct"] == pytest.approx(-25.0)
+    assert t.loc[(0.0, "baseline"), "change_pct"] == 0.0 and t.loc[(0.0, "strip"), "option"] == "40 mm"
+    assert t.loc[(0.5, "strip"), "mode_changed"] and not t.loc[(0.0, "strip"), "mode_changed"]

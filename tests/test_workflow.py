@@ -17,7 +17,8 @@ SNAKEMAKE = [sys.executable, "-m", "snakemake"]
 @pytest.fixture(scope="module")
 def smoke(tmp_path_factory):
     root = tmp_path_factory.mktemp("smoke") / "results"
-    r = subprocess.run(SNAKEMAKE + ["all", "accuracy", "--cores", "2", "--configfile", "config/smoke.yaml",
+    r = subprocess.run(SNAKEMAKE + ["all", "accuracy", "modelform", "--cores", "2",
+                                    "--configfile", "config/smoke.yaml",
                                     "--config", f"results={root}", "-q"], capture_output=True, text=True)
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
     return root
@@ -140,7 +141,8 @@ def test_report_opens_on_the_study(smoke, tmp_path):
     key table, one row per variant and level."""
     import zipfile
     out = tmp_path / "report.zip"
-    r = subprocess.run(SNAKEMAKE + ["--report", str(out), "all", "accuracy", "--configfile", "config/smoke.yaml",
+    r = subprocess.run(SNAKEMAKE + ["--report", str(out), "all", "accuracy", "modelform",
+                                    "--configfile", "config/smoke.yaml",
                                     "--config", f"results={smoke}"], capture_output=True, text=True)
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
     names = zipfile.ZipFile(out).namelist()
@@ -298,10 +300,12 @@ def test_a_solver_change_reruns_every_simulation(smoke, tmp_path):
     names (masonrydem.plan)."""
     from masonrydem import plan
     smoke_config = yaml.safe_load(open("config/smoke.yaml"))
-    planned = _planned(smoke, env=_package_copy(tmp_path, "laws.py", "_CHANGED = 1"), targets=["all", "accuracy"])
+    planned = _planned(smoke, env=_package_copy(tmp_path, "laws.py", "_CHANGED = 1"),
+                       targets=["all", "accuracy", "modelform"])
     assert planned.get("simulate") == 32 and planned.get("validation_run") == 1, planned
     assert planned.get("hard_case_run") == 2 and planned.get("specimen_run") == 2, planned
     assert planned.get("accuracy_run") == len(plan.accuracy_runs(smoke_config)), planned
+    assert planned.get("modelform_run") == len(plan.modelform_runs(smoke_config)) == 2, planned
 
 
 def test_an_analysis_change_reruns_no_simulation(smoke, tmp_path):

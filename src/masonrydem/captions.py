@@ -274,6 +274,21 @@ def paper_comparison(card):
     return dict(lines=_bullets(lines))
 
 
+def modelform(table):
+    """The model-form summary (validation.modelform_table): per case and
+    level, the options that move P_max most, and the mode changes."""
+    t = table[table.assumption != "baseline"]
+    lines = []
+    for (case, sv), g in t.groupby(["case", "sigma_v_mpa"], sort=False):
+        base = table[(table["case"] == case) & (table.sigma_v_mpa == sv) & (table.assumption == "baseline")].iloc[0]
+        top = g.reindex(g.change_pct.abs().sort_values(ascending=False).index).head(3)
+        changed = ", ".join(f"{r.assumption} {r.option}" for r in g[g.mode_changed].itertuples())
+        lines.append(f"{case} failure case, {sv:g} MPa (baseline **{base.P_max_kN:.2f} kN**, {base.failure_mode}): "
+                     + ", ".join(f"{r.assumption} {r.option} **{r.change_pct:+.1f} %**" for r in top.itertuples())
+                     + (f"; mode changed by {changed}" if changed else ""))
+    return dict(n_assumptions=t.assumption.nunique(), n_runs=len(table), lines=_bullets(lines))
+
+
 # --- the accuracy study -------------------------------------------------------------
 def accuracy_convergence(conv):
     """accuracy.sweep_table's convergence table, one line per case."""

@@ -1,4 +1,6 @@
 """Figures of the study (docs/study.md, 11-14).  Each function writes one PNG."""
+import itertools
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -290,6 +292,34 @@ def paper_comparison(card, path):
         ax.set_ylabel(item)
         ax.grid(alpha=0.3)
     axes[-1].legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    _save(fig, path)
+
+
+def tornado(table, path):
+    """The model-form study: per case (rows) and level (columns), each
+    assumption's options as bars of the change of P_max (%), the
+    assumptions sorted by their largest change over the panels; an option
+    that changed the failure mode is hatched."""
+    t = table[table.assumption != "baseline"]
+    order = t.groupby("assumption").change_pct.apply(lambda c: c.abs().max()).sort_values().index
+    cases, levels = list(dict.fromkeys(t["case"])), sorted(t.sigma_v_mpa.unique())
+    fig, axes = plt.subplots(len(cases), len(levels), figsize=(4.2 * len(levels), 0.45 * len(order) * len(cases) + 1.5),
+                             sharey=True, squeeze=False)
+    for (i, case), (j, sv) in itertools.product(enumerate(cases), enumerate(levels)):
+        ax = axes[i, j]
+        g = t[(t["case"] == case) & (t.sigma_v_mpa == sv)]
+        for y, name in enumerate(order):
+            opts = g[g.assumption == name]
+            for k, r in enumerate(opts.itertuples()):
+                ax.barh(y + (k - (len(opts) - 1) / 2) * 0.38, r.change_pct, height=0.36,
+                        color="tab:red" if r.change_pct > 0 else "tab:blue", hatch="//" if r.mode_changed else None,
+                        edgecolor="k", lw=0.3)
+        ax.axvline(0, color="k", lw=0.8)
+        ax.set_yticks(range(len(order)), [n.replace("_", " ") for n in order], fontsize=8)
+        ax.set_title(f"{case} failure case, {sv:g} MPa", fontsize=9)
+        ax.grid(axis="x", alpha=0.3)
+        if i == len(cases) - 1:
+            ax.set_xlabel("change of P_max (%)")
     _save(fig, path)
 
 

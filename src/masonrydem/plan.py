@@ -67,6 +67,34 @@ def reduced_overrides(config, case, model):
     return effective(config["numerics"], _by_name(r["cases"])[case], r["models"][model])
 
 
+# --- the model-form study (issue 33) ---------------------------------------------
+def modelform_runs(config):
+    """(case, sigma_v in MPa, option) of every model-form run: per case and
+    level the baseline (the scene as it stands) and each option of each
+    assumption, named '<assumption>_<k>' (k = 1, 2, ...)."""
+    m = config.get("modelform")
+    if not m:
+        return []
+    options = ["baseline"] + [f"{a['name']}_{k}" for a in m["assumptions"] for k in range(1, len(a["options"]) + 1)]
+    return [(c["name"], sv, o) for c in m["cases"] for sv in m["precompression_mpa"] for o in options]
+
+
+def modelform_option(config, option):
+    """(assumption, option) of a run's option name; (None, None) for the
+    baseline."""
+    if option == "baseline":
+        return None, None
+    name, k = option.rsplit("_", 1)
+    a = {a["name"]: a for a in config["modelform"]["assumptions"]}[name]
+    return a, a["options"][int(k) - 1]
+
+
+def modelform_overrides(config, case, sv, option):
+    m = config["modelform"]
+    _, opt = modelform_option(config, option)
+    return effective(config["numerics"], _by_name(m["cases"])[case], [pressure(sv)], opt["overrides"] if opt else [])
+
+
 # --- further specimens (issue 7) --------------------------------------------
 def specimen_cases(config):
     """Case -> {name, scene, overrides} of the further specimens."""
@@ -180,6 +208,8 @@ def planned_scenes(config):
     out += [(f"reduced ({case}, model {model})", scene, reduced_overrides(config, case, model))
             for case, model in reduced_runs(config)]
     out += [(f"specimens ({name})", c["scene"], c["overrides"]) for name, c in specimen_cases(config).items()]
+    out += [(f"modelform ({case} at {sv} MPa, {option})", scene, modelform_overrides(config, case, sv, option))
+            for case, sv, option in modelform_runs(config)]
     out += [(f"accuracy ({case}, setting {setting})", scene, accuracy_overrides(config, case, setting))
             for case, setting in accuracy_runs(config)]
     out += [(f"accuracy.scaling_courses ({n})", scene, scaling_overrides(config, n)) for n in scaling_courses(config)]

@@ -95,6 +95,24 @@ def reduced_table(results, tolerance):
     return pd.DataFrame(rows)
 
 
+def modelform_table(results, assumptions):
+    """The model-form study (results: (case, sigma_v, option) -> result
+    row; option 'baseline', the scene as it stands, is the reference of its
+    case and level; assumptions: config 'modelform'): per run the
+    assumption and the option's label, P_max, its change against the
+    baseline, the failure mode and whether it changed."""
+    labels = {f"{a['name']}_{k}": (a["name"], o["label"]) for a in assumptions
+              for k, o in enumerate(a["options"], start=1)} | {"baseline": ("baseline", "as modelled")}
+    rows = []
+    for (case, sv, option), r in results.items():
+        base = results[(case, sv, "baseline")]
+        rows.append(dict(case=case, sigma_v_mpa=sv, assumption=labels[option][0], option=labels[option][1],
+                         status=r["status"], P_max_kN=r["P_max_kN"],
+                         change_pct=100.0 * (r["P_max_kN"] / base["P_max_kN"] - 1.0), failure_mode=r["failure_mode"],
+                         mode_changed=r["failure_mode"] != base["failure_mode"], steps=r["steps"]))
+    return pd.DataFrame(rows)
+
+
 def specimen_table(results, curves, scenes):
     """One row per further specimen (tension, triplet): peak, the test's
     stress at the peak and at the end of the run (the mean over the last

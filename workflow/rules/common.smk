@@ -59,6 +59,17 @@ def get_validation_outputs():
             *(f"{R}/validation/damage_{run}.png" for run in config["validation"]["pictures"])]
 
 
+# --- the model-form study (issue 33) -------------------------------------------
+def get_modelform_results():
+    return [f"{R}/modelform/runs/{case}/sv{sv}/{option}/result.parquet"
+            for case, sv, option in plan.modelform_runs(config)]
+
+
+def get_modelform_sets(wildcards):
+    return get_job_sets(plan.modelform_overrides(config, wildcards.case, wildcards.sv, wildcards.option)
+                        + [f"name=modelform:{wildcards.case}_sv{wildcards.sv}_{wildcards.option}"])
+
+
 # --- hard cases, reduced models, specimens -------------------------------------
 def get_hard_case_sets(wildcards):
     return get_job_sets(plan.hard_case_overrides(config, wildcards.hard) + [f"name=hard_case:{wildcards.hard}"])

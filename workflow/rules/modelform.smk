@@ -1,0 +1,41 @@
+# The model-form study (issue 33):  snakemake --cores 2 modelform
+# Each modelling assumption of config 'modelform' varied one at a time on
+# the mean-property wallette, in joint and brick failure, at three levels:
+# how far P_max and the failure mode move (a tornado chart per level and mode).
+
+
+rule modelform_run:
+    """One case at one level with one option of one assumption (or none: the baseline)."""
+    input:
+        scene=config["scene"],
+    output:
+        result=f"{R}/modelform/runs/{{case}}/sv{{sv}}/{{option}}/result.parquet",
+        curve=f"{R}/modelform/runs/{{case}}/sv{{sv}}/{{option}}/curve.parquet",
+    params:
+        sets=get_modelform_sets,
+        out=get_run_dir,
+        solver=get_solver_hash(),
+        python=PYTHON,
+    log:
+        f"{R}/logs/modelform/{{case}}_sv{{sv}}_{{option}}.log",
+    threads: 1
+    shell:
+        RUN
+
+
+rule modelform:
+    """The model-form summary: every option's change of P_max against its baseline."""
+    input:
+        results=get_modelform_results(),
+        template=get_template("modelform"),
+    output:
+        table=report(f"{R}/modelform/summary.csv", caption=get_caption("modelform"), category="Model form"),
+        figure=report(f"{R}/modelform/tornado.png", caption=get_caption("modelform"), category="Model form"),
+        caption=get_caption("modelform"),
+    params:
+        runs=plan.modelform_runs(config),
+        assumptions=config.get("modelform", {}).get("assumptions", []),
+    log:
+        f"{R}/logs/modelform/summary.log",
+    script:
+        "../scripts/modelform.py"
