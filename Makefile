@@ -39,7 +39,7 @@ bench-reduced: $(STAMP)
 
 # seeded faults in the analysis, classification, sampling, masonry rules and
 # result tables, each run against the tests that guard its module: every
-# one must be caught (benchmarks/mutants.py; about 4 minutes)
+# one must be caught (benchmarks/mutants.py; about 5 minutes)
 mutants: $(STAMP)
 	$(BIN)/python benchmarks/mutants.py
 

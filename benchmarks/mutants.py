@@ -47,7 +47,8 @@ FAULTS = [
     ("increase inverted", "analysis.py", "increase=g[high] / g[low] - 1.0", "increase=g[low] / g[high] - 1.0"),
     ("features f_tu, f_tj swapped", "analysis.py", "np.column_stack([f_tu, f_tj, f_tu ** 2",
      "np.column_stack([f_tj, f_tu, f_tu ** 2"),
-    ("folds of single runs", "analysis.py", 'g.strength_mpa, g["sample"])', "g.strength_mpa, np.arange(len(g)))"),
+    ("folds of single runs", "analysis.py", 'g.strength_mpa, g["sample"], nested=nested)',
+     "g.strength_mpa, np.arange(len(g)), nested=nested)"),
     ("correlation of the other modes", "analysis.py", 'sel = g if mode == "all" else g[g.failure_mode == mode]\n'
      '            row', 'sel = g if mode == "all" else g[g.failure_mode != mode]\n            row'),
     ("scatter level off by one", "analysis.py", "return levels[np.argmin(np.abs(levels - near))]",
