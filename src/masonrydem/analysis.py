@@ -211,7 +211,7 @@ def prediction_over_samples(eq_joint, eq_brick, f_tu, f_tj, levels):
     return low.mean(axis=1), low.std(axis=1, ddof=1)
 
 
-# --- confidence intervals (docs/study.md, 12) ----------------------------------------
+# --- confidence intervals (docs/study.md, 16) ----------------------------------------
 CONFIDENCE = 0.95
 MODES = ("all", "joint", "brick")
 

@@ -216,7 +216,7 @@ def design_table(fits, ns, resid_sd, levels, geometry):
                              as3700_line=as_line))
 
 
-# --- the source paper side by side (docs/findings.md, "The paper side by side") -------
+# --- the source paper side by side (docs/study.md, 17; docs/findings.md) ---------------
 def paper_equation(paper, mode):
     """The paper's Eq. 10 for ``mode`` as an equation for analysis.predict
     (a term it does not have has coefficient 0)."""
