@@ -13,6 +13,10 @@ MODES = {"joint": "tab:blue", "brick": "tab:red"}
 # pixels of the 3-D pictures (masonrydem.viz) that go into the report: at
 # 1600 x 1000 the six damage pictures took 2.9 MB of the committed report
 PICTURE_WINDOW = (1200, 750)
+# symbols of the runs table's inputs, and axis labels with their units
+SYMBOL = {"f_tj_mpa": r"$f_{tj}$", "f_tu_mpa": r"$f_{tu}$", "phi_j_deg": r"$\phi_j$", "E_b_mpa": r"$E_b$"}
+SIGMA_V = r"$\sigma_v$ (MPa)"
+P_MAX = r"$P_{max}$ (kN)"
 
 
 def _save(fig, path):
@@ -32,8 +36,8 @@ def running_mean(runs, path):
         ax.set_title(variant)
         ax.set_xlabel("number of simulations")
         ax.grid(alpha=0.3)
-    axes[0].set_ylabel("running mean of P_max (kN)")
-    axes[-1].legend(title="sigma_v", fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    axes[0].set_ylabel(r"running mean of $P_{max}$ (kN)")
+    axes[-1].legend(title=r"$\sigma_v$", fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
     _save(fig, path)
 
 
@@ -50,7 +54,7 @@ def brick_share(stats, path):
     for variant, g in stats[stats["mode"] == "all"].groupby("variant"):
         _with_interval(ax, g.sigma_v_mpa, 100 * g.brick_share, 100 * g.brick_share_lo, 100 * g.brick_share_hi,
                        "o-", label=variant)
-    ax.set_xlabel("sigma_v (MPa)")
+    ax.set_xlabel(SIGMA_V)
     ax.set_ylabel("brick failures (%)")
     ax.grid(alpha=0.3)
     ax.legend()
@@ -66,12 +70,12 @@ def correlation_vs_sigma(corr, path):
         g = corr[(corr.variant == variant) & (corr["mode"] == "all")]
         for k, name in enumerate(A.INPUTS):     # shifted a little apart, so that the bars stay readable
             _with_interval(ax, g.sigma_v_mpa + 0.004 * (k - 1.5), g[name], g[f"{name}_lo"], g[f"{name}_hi"], "o-",
-                           label=name)
+                           label=SYMBOL[name])
         ax.set_title(variant)
-        ax.set_xlabel("sigma_v (MPa)")
+        ax.set_xlabel(SIGMA_V)
         ax.axhline(0, color="k", lw=0.5)
         ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel("Pearson correlation with P_max")
+    axes[0][0].set_ylabel(r"Pearson correlation with $P_{max}$")
     axes[0][-1].legend()
     _save(fig, path)
 
@@ -87,11 +91,11 @@ def scatter_deviation(runs, sigma_v, path):
         for mode, color in MODES.items():
             sel = (g.failure_mode == mode).to_numpy()
             ax.scatter(dev[sel], g.P_max_kN[sel], s=12, color=color, label=mode)
-        ax.set_xlabel(f"({name} - mean) / mean")
+        ax.set_xlabel(f"({SYMBOL[name]} - mean) / mean")
         ax.grid(alpha=0.3)
-    axes[0].set_ylabel("P_max (kN)")
+    axes[0].set_ylabel(P_MAX)
     axes[0].legend()
-    fig.suptitle(f"non-spatial, sigma_v = {sigma_v:g} MPa")
+    fig.suptitle(rf"non-spatial, $\sigma_v$ = {sigma_v:g} MPa")
     _save(fig, path)
 
 
@@ -164,7 +168,7 @@ def design_comparison(design, simulated, path):
     ax.plot(levels, design.as3700_line, ":", color="tab:red", lw=2, label="AS3700 line")
     ax.errorbar(simulated.index, simulated["mean"], yerr=simulated["std"], fmt="o", color="tab:green", capsize=3,
                 label="simulated mean +- 1 SD (non-spatial)")
-    ax.set_xlabel("sigma_v (MPa)")
+    ax.set_xlabel(SIGMA_V)
     ax.set_ylabel("strength (MPa)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
@@ -288,8 +292,8 @@ def paper_comparison(card, path):
             _with_interval(ax, g.sigma_v_mpa, g.ours, g.ours_lo, g.ours_hi, "o-", color=colours[mode],
                            label=f"{mode}: ours")
             ax.plot(g.sigma_v_mpa, g.paper, "x--", color=colours[mode], ms=9, label=f"{mode}: paper")
-        ax.set_xlabel("sigma_v (MPa)")
-        ax.set_ylabel(item)
+        ax.set_xlabel(SIGMA_V)
+        ax.set_ylabel({"F_max mean (kN)": r"mean $F_{max}$ (kN)", "F_max COV": r"COV of $F_{max}$"}[item])
         ax.grid(alpha=0.3)
     axes[-1].legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
     _save(fig, path)
@@ -319,7 +323,7 @@ def tornado(table, path):
         ax.set_title(f"{case} failure case, {sv:g} MPa", fontsize=9)
         ax.grid(axis="x", alpha=0.3)
         if i == len(cases) - 1:
-            ax.set_xlabel("change of P_max (%)")
+            ax.set_xlabel(r"change of $P_{max}$ (%)")
     _save(fig, path)
 
 
