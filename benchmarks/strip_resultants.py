@@ -25,13 +25,13 @@ from masonrydem.stops import Stops, run
 
 
 def bearing_x(state, strip):
-    """x of the resultant of ``strip``'s normal forces (the centroid of the
-    sub-contacts' force magnitudes along the strip's normal), and its total."""
+    """x of the resultant of ``strip``'s normal forces: the centroid of the
+    sub-contacts' force magnitudes along the strip's normal."""
     b, a = state.bearings, state.assembly
     s = strip.sc
     xyz = np.einsum("sk,skd->sd", b.w[s, :4], (a.nodes.x0 + state.nodes.u)[b.nodes[s, :4]])
     fn = np.abs(np.einsum("sd,sd->s", b.force[s], b.axes[s, :3]))
-    return float(np.sum(fn * xyz[:, 0]) / np.sum(fn)), float(np.sum(fn))
+    return float(np.sum(fn * xyz[:, 0]) / np.sum(fn))
 
 
 def at_peak(scene):
@@ -70,9 +70,10 @@ def main():
         P, xs, strips = at_peak(scene)
         bend = scene.loading.bending
         centre = 0.5 * (min(bend.supports_x) + max(bend.supports_x))
-        shifts = {s.name: (x - s.x0[0]) * np.sign(centre - s.x0[0]) * 1e3 for s, (x, _) in zip(strips, xs)}
-        arm = [abs(xl - xs_) for xs_, xl in zip(sorted(x for s, (x, _) in zip(strips, xs) if s.name.startswith("support")),
-                                                   sorted(x for s, (x, _) in zip(strips, xs) if s.name.startswith("load")))]
+        shifts = {s.name: (x - s.x0[0]) * np.sign(centre - s.x0[0]) * 1e3 for s, x in zip(strips, xs)}
+        supports, loads = (sorted(x for s, x in zip(strips, xs) if s.name.startswith(kind))
+                           for kind in ("support", "load"))
+        arm = [abs(xl - xsup) for xsup, xl in zip(supports, loads)]
         print(f"strip width {w * 1e3:4.0f} mm: P_max {P:7.3f} kN; shift toward the centre (mm): "
               + ", ".join(f"{k} {v:+.1f}" for k, v in shifts.items())
               + f"; arms of the resultants {', '.join(f'{1e3 * a:.1f}' for a in arm)} mm (nominal "

@@ -68,30 +68,27 @@ def reduced_overrides(config, case, model):
 
 
 # --- the model-form study (issue 33) ---------------------------------------------
+def modelform_options(assumptions):
+    """The options of config 'modelform''s ``assumptions`` by run name:
+    '<assumption>_<k>' (k = 1, 2, ...) -> (assumption, option), and
+    'baseline' (the scene as it stands) -> ('baseline', None)."""
+    return {"baseline": ("baseline", None)} | {f"{a['name']}_{k}": (a["name"], o) for a in assumptions
+                                               for k, o in enumerate(a["options"], start=1)}
+
+
 def modelform_runs(config):
-    """(case, sigma_v in MPa, option) of every model-form run: per case and
-    level the baseline (the scene as it stands) and each option of each
-    assumption, named '<assumption>_<k>' (k = 1, 2, ...)."""
+    """(case, sigma_v in MPa, option name) of every model-form run: per
+    case and level the baseline and each option of each assumption."""
     m = config.get("modelform")
     if not m:
         return []
-    options = ["baseline"] + [f"{a['name']}_{k}" for a in m["assumptions"] for k in range(1, len(a["options"]) + 1)]
-    return [(c["name"], sv, o) for c in m["cases"] for sv in m["precompression_mpa"] for o in options]
-
-
-def modelform_option(config, option):
-    """(assumption, option) of a run's option name; (None, None) for the
-    baseline."""
-    if option == "baseline":
-        return None, None
-    name, k = option.rsplit("_", 1)
-    a = {a["name"]: a for a in config["modelform"]["assumptions"]}[name]
-    return a, a["options"][int(k) - 1]
+    return [(c["name"], sv, o) for c in m["cases"] for sv in m["precompression_mpa"]
+            for o in modelform_options(m["assumptions"])]
 
 
 def modelform_overrides(config, case, sv, option):
     m = config["modelform"]
-    _, opt = modelform_option(config, option)
+    _, opt = modelform_options(m["assumptions"])[option]
     return effective(config["numerics"], _by_name(m["cases"])[case], [pressure(sv)], opt["overrides"] if opt else [])
 
 

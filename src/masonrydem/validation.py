@@ -5,6 +5,7 @@ import numpy as np
 import pandas as pd
 
 from . import analysis as A
+from .plan import modelform_options
 
 
 def initial_stiffness(curve, lo=0.1, hi=0.4):
@@ -101,8 +102,7 @@ def modelform_table(results, assumptions):
     case and level; assumptions: config 'modelform'): per run the
     assumption and the option's label, P_max, its change against the
     baseline, the failure mode and whether it changed."""
-    labels = {f"{a['name']}_{k}": (a["name"], o["label"]) for a in assumptions
-              for k, o in enumerate(a["options"], start=1)} | {"baseline": ("baseline", "as modelled")}
+    labels = {k: (name, o["label"] if o else "as modelled") for k, (name, o) in modelform_options(assumptions).items()}
     rows = []
     for (case, sv, option), r in results.items():
         base = results[(case, sv, "baseline")]
@@ -302,10 +302,9 @@ def _paper_equation_on_runs(paper, runs, resamples, seed):
     its two on all: MAPE and bias (mean of (predicted - simulated) /
     simulated), in %."""
     rows = []
-    joint, brick = paper_equation(paper, "joint"), paper_equation(paper, "brick")
-    low, _ = A.lower_of_two(joint, brick, runs.f_tu_mpa, runs.f_tj_mpa, runs.sigma_v_mpa)
-    for m, pred in (("joint", A.predict(joint, runs.f_tu_mpa, runs.f_tj_mpa, runs.sigma_v_mpa)),
-                    ("brick", A.predict(brick, runs.f_tu_mpa, runs.f_tj_mpa, runs.sigma_v_mpa)), ("lower of two", low)):
+    joint, brick = (A.predict(paper_equation(paper, m), runs.f_tu_mpa, runs.f_tj_mpa, runs.sigma_v_mpa)
+                    for m in ("joint", "brick"))
+    for m, pred in (("joint", joint), ("brick", brick), ("lower of two", np.minimum(joint, brick))):
         sel = (runs.failure_mode == m).to_numpy() if m != "lower of two" else np.ones(len(runs), bool)
         if sel.sum() == 0:
             continue
