@@ -5,6 +5,7 @@ configfile: "config/config.yaml"
 
 
 include: "workflow/rules/common.smk"
+include: "workflow/rules/provenance.smk"
 include: "workflow/rules/validation.smk"
 include: "workflow/rules/pictures.smk"
 include: "workflow/rules/study.smk"
@@ -33,3 +34,8 @@ rule all:
         get_stability_outputs(),
         get_reduced_outputs(),
         get_specimen_outputs(),
+
+
+# the records of what made each result, for a clone (workflow/rules/provenance.smk)
+onsuccess:
+    save_provenance()

@@ -275,8 +275,8 @@ def _planned(smoke, extra=(), env=None, targets=()):
     r = subprocess.run(SNAKEMAKE + [*targets, "-n", "--configfile", "config/smoke.yaml", *extra, "--config",
                                     f"results={smoke}"], capture_output=True, text=True, env=env)
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
-    return {x.split()[0]: int(x.split()[1]) for x in r.stdout.splitlines()
-            if len(x.split()) == 2 and x.split()[1].isdigit()}
+    jobs = (re.fullmatch(r"(\w+)\s+(\d+)", x.strip()) for x in r.stdout.splitlines())
+    return {m[1]: int(m[2]) for m in jobs if m and m[1] != "total"}
 
 
 def _package_copy(tmp_path, module, line):
@@ -308,12 +308,66 @@ def test_a_solver_change_reruns_every_simulation(smoke, tmp_path):
     assert planned.get("modelform_run") == len(plan.modelform_runs(smoke_config)) == 2, planned
 
 
-def test_an_analysis_change_reruns_no_simulation(smoke, tmp_path):
+PER_RUN_RULES = {"simulate", "simulate_fine", "accuracy_run", "accuracy_scaling_run", "modelform_run",
+                 "hard_case_run", "reduced_run", "specimen_run", "validation_run", "sample"}
+
+
+def test_an_analysis_change_reruns_the_analysis_and_no_simulation(smoke, tmp_path):
     """A change to the analysis of results (analysis.py, outside the source
-    hash) plans nothing: Snakemake does not track the package's modules,
-    and the simulations' parameters do not change."""
+    hash) reruns the rules whose scripts may use it (their parameter
+    'code'), and no simulation, nor the sampling."""
     planned = _planned(smoke, env=_package_copy(tmp_path, "analysis.py", "_CHANGED = 1"))
-    assert not planned, planned
+    assert {"statistics", "figures", "regression", "collect"} <= set(planned), planned
+    assert not set(planned) & PER_RUN_RULES, planned
+
+
+def test_a_changed_figure_script_reruns_that_figure_alone(smoke, tmp_path):
+    """A statement added to the figures' script (a copy of the workflow, run
+    on the smoke results) plans the rule 'figures' and nothing else."""
+    import shutil
+    for name in ("Snakefile", "workflow", "profiles", "config"):
+        (shutil.copytree if os.path.isdir(name) else shutil.copy)(name, tmp_path / name)
+    with open(tmp_path / "workflow" / "scripts" / "figures.py", "a") as f:
+        f.write("\n_CHANGED = 1\n")
+    planned = _planned(smoke, ["-s", str(tmp_path / "Snakefile")])
+    assert set(planned) - {"all"} == {"figures"}, planned
+
+
+def _clone(smoke, root):
+    """The smoke results as a clone has them: without what git leaves out
+    (the single runs, the samples, states, logs: .gitignore), without
+    Snakemake's records of them (another path), and with file times in
+    reverse order, older than the workflow's files."""
+    import shutil
+
+    def left_out(folder, names):
+        run_folders = {"runs", "subsample", "scaling", "state", "logs"}
+        return [n for n in names if (n in run_folders and not folder.endswith("validation"))
+                or n == "state" or n.startswith("samples_") and n.endswith(".json") or n.endswith(".vtm")]
+    shutil.copytree(smoke, root, ignore=left_out)
+    files = sorted((p for p in root.rglob("*") if p.is_file()), key=lambda p: p.stat().st_mtime)
+    for i, p in enumerate(reversed(files)):
+        os.utime(p, (1.6e9 + i, 1.6e9 + i))
+    return root
+
+
+def test_a_clone_plans_nothing_and_still_sees_a_change(smoke, tmp_path):
+    """A clone of the results plans nothing: Snakemake's records, saved in
+    provenance.json, are put back, and judge by checksum, not by file
+    time.  On the clone, a solver change still plans every simulation of
+    the smoke, and a numerics change every run it affects."""
+    clone = _clone(smoke, tmp_path / "clone" / "results")
+    assert (clone / "provenance.json").is_file() and not (clone / "study" / "runs").exists()
+    assert _planned(clone) == {}
+    planned = _planned(clone, env=_package_copy(tmp_path, "laws.py", "_CHANGED = 1"))
+    assert planned.get("simulate") == 32 and planned.get("validation_run") == 1, planned
+    assert planned.get("hard_case_run") == 2 and planned.get("specimen_run") == 2, planned
+    extra = tmp_path / "extra.yaml"
+    extra.write_text(yaml.safe_dump({"numerics": yaml.safe_load(open("config/smoke.yaml"))["numerics"]
+                                     + ["numerics.record_every=20"]}))
+    planned = _planned(clone, [str(extra)])
+    assert planned.get("simulate") == 32 and planned.get("validation_run") == 1, planned
+    assert "specimen_run" not in planned, planned
 
 
 def test_a_numerics_change_reruns_every_run_and_a_new_level_only_its_own(smoke, tmp_path):

@@ -4,7 +4,7 @@
 rule accuracy_run:
     """One run of an accuracy case with one numerical setting."""
     input:
-        scene=config["scene"],
+        scene=ancient(config["scene"]),  # by its content: params.scene
     output:
         result=f"{R}/accuracy/runs/{{case}}/{{setting}}/result.parquet",
         curve=f"{R}/accuracy/runs/{{case}}/{{setting}}/curve.parquet",
@@ -12,7 +12,7 @@ rule accuracy_run:
         sets=get_accuracy_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
-        python=PYTHON,
+        scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/accuracy/{{case}}_{{setting}}.log",
     threads: 1
@@ -28,7 +28,7 @@ use rule accuracy_run as accuracy_scaling_run with:
         sets=get_scaling_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
-        python=PYTHON,
+        scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/accuracy/scaling_courses{{courses}}.log",
 
@@ -41,7 +41,7 @@ use rule simulate as simulate_fine with:
         sets=get_fine_sets,  # complete: independent of the defaults
         out=get_run_dir,
         solver=get_solver_hash(),
-        python=PYTHON,
+        scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/accuracy/subsample_{{variant}}_sv{{sv}}_s{{sample}}.log",
 
@@ -57,8 +57,10 @@ rule accuracy_summary:
                            category="Accuracy"),
         choice=report(f"{R}/accuracy/choice.csv", caption=get_caption("accuracy_choice"), category="Accuracy"),
         pareto=report(f"{R}/accuracy/pareto.png", caption=get_caption("accuracy_choice"), category="Accuracy"),
-        captions=[get_caption("accuracy_convergence"), get_caption("accuracy_choice")],
+        captions=[get_caption_file("accuracy_convergence"), get_caption_file("accuracy_choice")],
     params:
+        code=get_code("accuracy_summary"),
+        simulations=get_runs(get_accuracy_sets, [dict(case=c, setting=s) for c, s in plan.accuracy_runs(config)]),
         runs=plan.accuracy_runs(config),
         cases=plan.accuracy_cases(config),
         tolerance=config.get("accuracy", {}).get("tolerance"),
@@ -82,8 +84,10 @@ rule accuracy_scaling:
     output:
         table=report(f"{R}/accuracy/scaling.csv", caption=get_caption("accuracy_scaling"), category="Accuracy"),
         figure=report(f"{R}/accuracy/scaling.png", caption=get_caption("accuracy_scaling"), category="Accuracy"),
-        caption=get_caption("accuracy_scaling"),
+        caption=get_caption_file("accuracy_scaling"),
     params:
+        code=get_code("accuracy_scaling"),
+        simulations=get_runs(get_scaling_sets, [dict(courses=c) for c in plan.scaling_courses(config)]),
         courses=plan.scaling_courses(config),
         settings=plan.scaling_settings(config),
     log:
@@ -102,8 +106,11 @@ rule accuracy_subsample:
         table=report(f"{R}/accuracy/subsample.csv", caption=get_caption("accuracy_subsample"), category="Accuracy"),
         figure=report(f"{R}/accuracy/subsample.png", caption=get_caption("accuracy_subsample"),
                       category="Accuracy"),
-        caption=get_caption("accuracy_subsample"),
+        caption=get_caption_file("accuracy_subsample"),
     params:
+        code=get_code("accuracy_subsample"),
+        simulations=get_runs(get_fine_sets, [dict(sv=sv) for sv in config.get("accuracy", {}).get("subsample", {}).get("precompression_mpa", [])],
+                             get_study_runs_key()),
         fine=plan.subsample_fine(config),
     log:
         f"{R}/logs/accuracy/subsample.log",

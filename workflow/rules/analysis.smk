@@ -18,7 +18,9 @@ rule figures:
         scatter=report(f"{R}/study/scatter_deviation.png", caption=get_caption("scatter_deviation"),
                        category="Study"),
         curves=report(f"{R}/study/curves_by_mode.png", caption=get_caption("curves_by_mode"), category="Study"),
-        captions=[get_caption(n) for n in FIGURE_CAPTIONS],
+        captions=[get_caption_file(n) for n in FIGURE_CAPTIONS],
+    params:
+        code=get_code("figures"),
     log:
         f"{R}/logs/study/figures.log",
     script:
@@ -39,8 +41,9 @@ rule regression:
                       category="Prediction"),
         design_table=report(f"{R}/study/design_comparison.csv", caption=get_caption("design_comparison"),
                             category="Prediction"),
-        captions=[get_caption(n) for n in REGRESSION_CAPTIONS],
+        captions=[get_caption_file(n) for n in REGRESSION_CAPTIONS],
     params:
+        code=get_code("regression"),
         bootstrap=config["study"]["bootstrap"],
     log:
         f"{R}/logs/study/regression.log",
@@ -62,8 +65,9 @@ rule scorecard:
                      category="Paper side by side"),
         figure=report(f"{R}/study/paper_comparison.png", caption=get_caption("paper_comparison"),
                       category="Paper side by side"),
-        caption=get_caption("paper_comparison"),
+        caption=get_caption_file("paper_comparison"),
     params:
+        code=get_code("scorecard"),
         bootstrap=config["study"]["bootstrap"],
     log:
         f"{R}/logs/study/scorecard.log",

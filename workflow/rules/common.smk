@@ -19,6 +19,12 @@ def get_caption(name):
     return os.path.abspath(f"{R}/report/{name}.rst")
 
 
+def get_caption_file(name):
+    """The same caption as an output of its rule (a path relative to the
+    working directory, as Snakemake records it: workflow/rules/provenance.smk)."""
+    return f"{R}/report/{name}.rst"
+
+
 def get_template(name):
     return f"workflow/report/{name}.rst"
 
@@ -33,7 +39,7 @@ PYTHON = sys.executable
 # One simulation through the command line (masonrydem.cli: the one entry
 # point of a run); --exit-zero: the job succeeds whenever the run's row is
 # written (its status says how the run ended: nothing lost).
-RUN = ("{params.python:q} -m masonrydem.cli run {input.scene:q} {params.sets} --out {params.out:q} "
+RUN = ("{PYTHON:q} -m masonrydem.cli run {input.scene:q} {params.sets} --out {params.out:q} "
        "--threads {threads} --exit-zero > {log:q} 2>&1")
 
 
@@ -93,7 +99,7 @@ def get_reduced_outputs():
 
 
 def get_specimen_scene(wildcards):
-    return plan.specimen_cases(config)[wildcards.case]["scene"]
+    return ancient(plan.specimen_cases(config)[wildcards.case]["scene"])
 
 
 def get_specimen_sets(wildcards):

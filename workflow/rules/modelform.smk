@@ -7,7 +7,7 @@
 rule modelform_run:
     """One case at one level with one option of one assumption (or none: the baseline)."""
     input:
-        scene=config["scene"],
+        scene=ancient(config["scene"]),  # by its content: params.scene
     output:
         result=f"{R}/modelform/runs/{{case}}/sv{{sv}}/{{option}}/result.parquet",
         curve=f"{R}/modelform/runs/{{case}}/sv{{sv}}/{{option}}/curve.parquet",
@@ -15,7 +15,7 @@ rule modelform_run:
         sets=get_modelform_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
-        python=PYTHON,
+        scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/modelform/{{case}}_sv{{sv}}_{{option}}.log",
     threads: 1
@@ -31,8 +31,10 @@ rule modelform:
     output:
         table=report(f"{R}/modelform/summary.csv", caption=get_caption("modelform"), category="Model form"),
         figure=report(f"{R}/modelform/tornado.png", caption=get_caption("modelform"), category="Model form"),
-        caption=get_caption("modelform"),
+        caption=get_caption_file("modelform"),
     params:
+        code=get_code("modelform"),
+        simulations=get_runs(get_modelform_sets, [dict(case=c, sv=sv, option=o) for c, sv, o in plan.modelform_runs(config)]),
         runs=plan.modelform_runs(config),
         assumptions=config.get("modelform", {}).get("assumptions", []),
     log:

@@ -6,6 +6,8 @@ rule damage_picture:
     output:
         report(f"{R}/validation/damage_{{run}}.png", caption="../report/damage_picture.rst",
                category="3-D pictures", subcategory="{run}"),
+    params:
+        code=get_code("damage_picture"),
     log:
         f"{R}/logs/validation/damage_{{run}}.log",
     script:
@@ -22,8 +24,9 @@ rule study_pictures:
     output:
         pictures=[report(f"{R}/study/pictures/{v}_{m}.png", caption=get_caption("study_pictures"),
                          category="3-D pictures", subcategory="study") for v, m in plan.study_pictures(config)],
-        caption=get_caption("study_pictures"),
+        caption=get_caption_file("study_pictures"),
     params:
+        code=get_code("study_pictures"),
         pictures=plan.study_pictures(config),
         variants=config["study"]["variants"],
         overrides=config["numerics"],

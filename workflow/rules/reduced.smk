@@ -11,7 +11,7 @@ wildcard_constraints:
 rule reduced_run:
     """One case with one model (scene physics overrides)."""
     input:
-        scene=config["scene"],
+        scene=ancient(config["scene"]),  # by its content: params.scene
     output:
         result=f"{R}/reduced/runs/{{case}}_{{model}}/result.parquet",
         curve=f"{R}/reduced/runs/{{case}}_{{model}}/curve.parquet",
@@ -19,7 +19,7 @@ rule reduced_run:
         sets=get_reduced_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
-        python=PYTHON,
+        scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/reduced/{{case}}_{{model}}.log",
     threads: 1
@@ -34,8 +34,10 @@ rule reduced:
         template=get_template("reduced"),
     output:
         table=report(f"{R}/reduced/summary.csv", caption=get_caption("reduced"), category="Reduced models"),
-        caption=get_caption("reduced"),
+        caption=get_caption_file("reduced"),
     params:
+        code=get_code("reduced"),
+        simulations=get_runs(get_reduced_sets, [dict(case=c, model=m) for c, m in plan.reduced_runs(config)]),
         runs=plan.reduced_runs(config),
         tolerance=config.get("reduced", {}).get("tolerance"),
     log:

@@ -6,7 +6,7 @@
 rule specimen_run:
     """One specimen case: its scene with its overrides."""
     input:
-        scene=get_specimen_scene,
+        scene=get_specimen_scene,  # by its content: params.scene
     output:
         result=f"{R}/specimens/runs/{{case}}/result.parquet",
         curve=f"{R}/specimens/runs/{{case}}/curve.parquet",
@@ -14,7 +14,7 @@ rule specimen_run:
         sets=get_specimen_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
-        python=PYTHON,
+        scene=lambda wildcards: get_file_digest(get_specimen_scene(wildcards)),
     log:
         f"{R}/logs/specimens/{{case}}.log",
     threads: 1
@@ -32,8 +32,10 @@ rule specimens:
     output:
         table=report(f"{R}/specimens/summary.csv", caption=get_caption("specimens"), category="Specimens"),
         figure=report(f"{R}/specimens/response.png", caption=get_caption("specimens"), category="Specimens"),
-        caption=get_caption("specimens"),
+        caption=get_caption_file("specimens"),
     params:
+        code=get_code("specimens"),
+        simulations=get_runs(get_specimen_sets, [dict(case=c) for c in plan.specimen_cases(config)]),
         cases=plan.specimen_cases(config),
     log:
         f"{R}/logs/specimens/summary.log",

@@ -5,7 +5,7 @@ wildcard_constraints:
 rule hard_case_run:
     """One hard case (issue 6) at the study's numerics."""
     input:
-        scene=config["scene"],
+        scene=ancient(config["scene"]),  # by its content: params.scene
     output:
         result=f"{R}/stability/runs/{{hard}}/result.parquet",
         curve=f"{R}/stability/runs/{{hard}}/curve.parquet",
@@ -13,7 +13,7 @@ rule hard_case_run:
         sets=get_hard_case_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
-        python=PYTHON,
+        scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/stability/{{hard}}.log",
     threads: 1
@@ -28,8 +28,10 @@ rule hard_cases:
         template=get_template("hard_cases"),
     output:
         table=report(f"{R}/stability/hard_cases.csv", caption=get_caption("hard_cases"), category="Stability"),
-        caption=get_caption("hard_cases"),
+        caption=get_caption_file("hard_cases"),
     params:
+        code=get_code("hard_cases"),
+        simulations=get_runs(get_hard_case_sets, [dict(hard=h) for h in plan.hard_case_jobs(config)]),
         runs=list(plan.hard_case_jobs(config)),
         expect=plan.hard_case_expect(config),
     log:

@@ -10,8 +10,9 @@ rule sample:
         nonspatial=f"{R}/study/samples_nonspatial.json",
         spatial=f"{R}/study/samples_spatial.json",
         check=report(f"{R}/study/sampling_check.csv", caption=get_caption("sampling_check"), category="Study"),
-        caption=get_caption("sampling_check"),
+        caption=get_caption_file("sampling_check"),
     params:
+        code=get_code("sample", modules=("sampling.py",)),
         # only what sampling reads: a change of any other study setting
         # (levels, curve points) must not redraw the samples and so rerun
         # every simulation
@@ -27,7 +28,7 @@ rule simulate:
     """One simulation: a variant, a precompression level, a sample."""
     input:
         samples=f"{R}/study/samples_{{variant}}.json",
-        scene=config["scene"],
+        scene=ancient(config["scene"]),  # by its content: params.scene
     output:
         result=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/result.json",
         curve=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/curve.json",
@@ -35,14 +36,14 @@ rule simulate:
         sets=get_study_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
-        python=PYTHON,  # this workflow's interpreter (its environment has the package)
+        scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/study/{{variant}}_sv{{sv}}_s{{sample}}.log",
     threads: 1
     shell:
         # the command line as in RUN, no script wrapper: a light job that starts
         # in a fraction of a second, its row and curve as JSON
-        "{params.python:q} -m masonrydem.cli run {input.scene:q} {params.sets} --out {params.out:q} "
+        "{PYTHON:q} -m masonrydem.cli run {input.scene:q} {params.sets} --out {params.out:q} "
         "--threads {threads} --exit-zero --format json --samples {input.samples:q} --sample {wildcards.sample} "
         "--variant {wildcards.variant} > {log:q} 2>&1"
 
@@ -56,6 +57,8 @@ rule collect:
         runs=f"{R}/study/runs.parquet",
         curves=f"{R}/study/curves.parquet",
     params:
+        code=get_code("collect"),
+        simulations=get_study_runs_key(),
         curve_points=config["study"]["curve_points"],
     log:
         f"{R}/logs/study/collect.log",
@@ -73,8 +76,9 @@ rule statistics:
         statistics=report(f"{R}/study/statistics.csv", caption=get_caption("statistics"), category="Study"),
         correlations=report(f"{R}/study/correlations.csv", caption=get_caption("correlations"), category="Study"),
         increase=report(f"{R}/study/increase.csv", caption=get_caption("increase"), category="Study"),
-        captions=[get_caption(n) for n in STATISTICS_CAPTIONS],
+        captions=[get_caption_file(n) for n in STATISTICS_CAPTIONS],
     params:
+        code=get_code("statistics"),
         bootstrap=config["study"]["bootstrap"],
     log:
         f"{R}/logs/study/statistics.log",

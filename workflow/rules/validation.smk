@@ -8,7 +8,7 @@ wildcard_constraints:
 rule validation_run:
     """One deterministic run of the scene."""
     input:
-        scene=config["scene"],
+        scene=ancient(config["scene"]),  # by its content: params.scene
     output:
         result=f"{R}/validation/runs/{{case}}_sv{{sv}}/result.parquet",
         curve=f"{R}/validation/runs/{{case}}_sv{{sv}}/curve.parquet",
@@ -17,7 +17,7 @@ rule validation_run:
         sets=get_validation_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
-        python=PYTHON,
+        scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/validation/{{case}}_sv{{sv}}.log",
     threads: 1
@@ -37,8 +37,9 @@ rule validation_summary:
                      category="Validation"),
         figure=report(f"{R}/validation/load_displacement.png", caption=get_caption("validation_summary"),
                       category="Validation"),
-        caption=get_caption("validation_summary"),
+        caption=get_caption_file("validation_summary"),
     params:
+        code=get_code("validation_summary"),
         runs=plan.validation_runs(config),
     log:
         f"{R}/logs/validation/summary.log",
@@ -53,6 +54,8 @@ rule model_numbering:
     output:
         report(f"{R}/validation/model_numbering.png", caption="../report/model_numbering.rst",
                category="3-D pictures"),
+    params:
+        code=get_code("model_numbering"),
     log:
         f"{R}/logs/validation/model_numbering.log",
     script:
