@@ -25,6 +25,19 @@ def write_captions(templates, outputs, values):
         write_caption(t, o, **values.get(Path(t).stem, {}))
 
 
+def html_table(table, title):
+    """A table as a page of the report, which shows an HTML result in place
+    (a CSV it only offers for download): numbers to 5 significant digits,
+    empty cells for undefined values, the header fixed as the page scrolls."""
+    from html import escape
+    body = table.to_html(index=False, na_rep="", border=0, float_format=lambda x: f"{x:.5g}")
+    style = ("body{font:14px sans-serif;margin:8px} table{border-collapse:collapse} "
+             "th,td{padding:3px 8px;text-align:right;border-bottom:1px solid #ddd;white-space:nowrap} "
+             "th{position:sticky;top:0;background:#f4f4f4} tr:hover td{background:#fafae0}")
+    return (f'<!DOCTYPE html>\n<html><head><meta charset="utf-8"><title>{escape(title)}</title>'
+            f"<style>{style}</style></head>\n<body><h3>{escape(title)}</h3>\n{body}\n</body></html>\n")
+
+
 def _num(x, spec):
     """A number for a caption; one that is undefined (the COV of one run,
     the mean of none) says so instead of printing nan."""

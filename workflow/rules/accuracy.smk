@@ -12,6 +12,7 @@ rule accuracy_run:
         sets=get_accuracy_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
+        python=get_python,
         scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/accuracy/{{case}}_{{setting}}.log",
@@ -28,6 +29,7 @@ use rule accuracy_run as accuracy_scaling_run with:
         sets=get_scaling_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
+        python=get_python,
         scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/accuracy/scaling_courses{{courses}}.log",
@@ -41,6 +43,7 @@ use rule simulate as simulate_fine with:
         sets=get_fine_sets,  # complete: independent of the defaults
         out=get_run_dir,
         solver=get_solver_hash(),
+        python=get_python,
         scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/accuracy/subsample_{{variant}}_sv{{sv}}_s{{sample}}.log",

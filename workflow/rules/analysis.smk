@@ -73,3 +73,19 @@ rule scorecard:
         f"{R}/logs/study/scorecard.log",
     script:
         "../scripts/scorecard.py"
+
+
+rule tables:
+    """The key tables of the study as HTML pages of the report."""
+    input:
+        **{name: f"{R}/study/{name}.csv" for name in TABLES},
+    output:
+        **{name: report(f"{R}/report/tables/{name}.html", caption=get_caption(caption), category=category)
+           for name, (_, category, caption) in TABLES.items()},
+    params:
+        code=get_code("tables"),
+        titles={name: title for name, (title, _, _) in TABLES.items()},
+    log:
+        f"{R}/logs/study/tables.log",
+    script:
+        "../scripts/tables.py"

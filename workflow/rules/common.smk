@@ -35,11 +35,18 @@ def get_solver_hash():
     return masonrydem.source_hash()
 
 
-PYTHON = sys.executable
+def get_python(wildcards, input):
+    """This workflow's interpreter (its environment has the package): a
+    param that takes the inputs, so Snakemake counts it as derived from
+    them and leaves it out of its records.  A run made by another
+    interpreter, with the same package and settings, is the same run."""
+    return sys.executable
+
+
 # One simulation through the command line (masonrydem.cli: the one entry
 # point of a run); --exit-zero: the job succeeds whenever the run's row is
 # written (its status says how the run ended: nothing lost).
-RUN = ("{PYTHON:q} -m masonrydem.cli run {input.scene:q} {params.sets} --out {params.out:q} "
+RUN = ("{params.python:q} -m masonrydem.cli run {input.scene:q} {params.sets} --out {params.out:q} "
        "--threads {threads} --exit-zero > {log:q} 2>&1")
 
 
@@ -129,12 +136,25 @@ def get_fine_sets(wildcards):
     return get_job_sets(plan.effective(plan.subsample_fine(config), [plan.pressure(wildcards.sv)]))
 
 
+# the study's key tables as pages the report shows (its CSVs it offers only
+# for download): table name -> (title, report category, caption)
+TABLES = {
+    "statistics": ("P_max per variant, precompression and failure mode, with 95 % intervals", "Study", "statistics"),
+    "increase": ("Increase of the mean from the lowest to the highest precompression", "Study", "increase"),
+    "correlations": ("Pearson correlations of P_max with the random inputs", "Study", "correlations"),
+    "equations": ("Prediction equations (Lasso, 5-fold CV) with 95 % intervals", "Prediction", "equations"),
+    "design_comparison": ("Design rules against the simulations", "Prediction", "design_comparison"),
+    "paper_comparison": ("The source paper side by side", "Paper side by side", "paper_comparison"),
+}
+
+
 def get_study_outputs():
     names = ("statistics.csv", "correlations.csv", "increase.csv", "sampling_check.csv", "running_mean.png",
              "brick_share.png", "correlation_vs_sigma.png", "scatter_deviation.png", "curves_by_mode.png",
              "equations.csv", "predicted_vs_simulated.png", "design_comparison.png", "paper_comparison.csv")
     return [*(f"{R}/study/pictures/{v}_{m}.png" for v, m in plan.study_pictures(config)),
-            *(f"{R}/study/{name}" for name in names)]
+            *(f"{R}/study/{name}" for name in names),
+            *(f"{R}/report/tables/{name}.html" for name in TABLES)]
 
 
 # --- the accuracy study (issue 5) ---------------------------------------------

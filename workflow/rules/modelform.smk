@@ -15,6 +15,7 @@ rule modelform_run:
         sets=get_modelform_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
+        python=get_python,
         scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/modelform/{{case}}_sv{{sv}}_{{option}}.log",

@@ -12,11 +12,11 @@
 # parameter reruns the job.
 #
 # Two things make the records enough:
-# - every rule that collects simulations carries, as its parameter
+# - every step that collects simulations carries, as its parameter
 #   'simulations', the solver's source hash and every run's settings
 #   (get_runs): the runs' own files are not committed, so on a clone a
 #   changed solver or setting is seen there and reruns all they affect;
-# - every script rule carries its code as a parameter (get_code), and the
+# - every step run by a script carries its code as a parameter (get_code), and the
 #   profile's rerun triggers leave out 'code', which compares the script's
 #   file time.
 import base64
@@ -46,14 +46,44 @@ def _module_code(name):
     return masonrydem.source_code(name, (Path(masonrydem.__file__).parent / name).read_text())
 
 
-def get_code(script, modules=masonrydem.ANALYSIS_ONLY):
+def _package_imports(text, inside):
+    """The package's modules a source imports (absolute imports of
+    masonrydem, and relative ones ``inside`` the package)."""
+    import ast
+    names = set()
+    for node in ast.walk(ast.parse(text)):
+        if isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level == 1 and inside or base.split(".")[0] == "masonrydem":
+                sub = base.removeprefix("masonrydem").lstrip(".")
+                names |= {sub.split(".")[0]} if sub else {a.name for a in node.names}
+        elif isinstance(node, ast.Import):
+            names |= {a.name.split(".")[1] for a in node.names if a.name.startswith("masonrydem.")}
+    here = Path(masonrydem.__file__).parent
+    return {f"{n}.py" for n in names if (here / f"{n}.py").is_file()}
+
+
+@functools.cache
+def _modules_used(name):
+    """A package module and every package module it imports, transitively."""
+    found, todo = set(), {name}
+    while todo:
+        n = todo.pop()
+        found.add(n)
+        todo |= _package_imports((Path(masonrydem.__file__).parent / n).read_text(), True) - found
+    return frozenset(found)
+
+
+def get_code(script):
     """What decides a script rule's outputs besides its inputs and settings:
-    the script, the package's analysis modules it may use and, unless it
-    names its modules, the solver (docstrings and comments aside)."""
+    the script and the package's modules it imports, transitively
+    (docstrings and comments aside); the solver's source hash stands for
+    those outside the analysis modules (masonrydem.ANALYSIS_ONLY)."""
     text = Path(workflow.basedir, "workflow", "scripts", f"{script}.py").read_text()
-    return _digest(masonrydem.source_code(f"{script}.py", text),
-                   *(_module_code(n) for n in modules),
-                   get_solver_hash() if modules == masonrydem.ANALYSIS_ONLY else None)
+    used = set().union(*(_modules_used(m) for m in _package_imports(text, False)))
+    analysis = sorted(used & set(masonrydem.ANALYSIS_ONLY))
+    return _digest(masonrydem.source_code(f"{script}.py", text), *(_module_code(n) for n in analysis),
+                   get_solver_hash() if used - set(analysis) else None)
 
 
 def get_file_digest(path):
@@ -64,7 +94,7 @@ def get_file_digest(path):
 
 
 def get_runs(sets, runs, *extra):
-    """What decides the simulations a rule collects: the solver's source
+    """What decides the simulations a step collects: the solver's source
     hash, the scene and each run's settings (``sets`` of each run's
     wildcards)."""
     return _digest(get_solver_hash(), get_file_digest(config["scene"]),
@@ -84,7 +114,7 @@ def _record_path(path):
     names of at most 254 characters)."""
     b64 = base64.urlsafe_b64encode(str(path).encode()).decode()
     parts = [b64[i:i + 254] for i in range(0, len(b64), 254)]
-    return METADATA.joinpath(*["@" + p for p in parts[:-1]], parts[-1])
+    return METADATA.joinpath(*[f"@{p}" for p in parts[:-1]], parts[-1])
 
 
 def _sha256(path):
@@ -97,7 +127,7 @@ def _kept(record, saved):
     under R written from '{R}/' (a copy of the results elsewhere is judged
     as the results are)."""
     def rel(path):
-        return "{R}/" + path[len(R) + 1:] if path.startswith(f"{R}/") else path
+        return f"{{R}}/{path[len(R) + 1:]}" if path.startswith(f"{R}/") else path
     kept = {k: record.get(k) for k in RECORD}
     kept["input"] = [rel(f) for f in record.get("input") or []]
     kept["log"] = [rel(f) for f in record.get("log") or []]
@@ -109,7 +139,7 @@ def _kept(record, saved):
 def _placed(record):
     """A saved record with its paths under this R."""
     def here(path):
-        return R + path[3:] if path.startswith("{R}/") else path
+        return f"{R}{path[3:]}" if path.startswith("{R}/") else path
     return dict(record, input=[here(f) for f in record["input"]], log=[here(f) for f in record["log"]],
                 input_checksums={here(f): s for f, s in record["input_checksums"].items()})
 

@@ -19,6 +19,7 @@ rule reduced_run:
         sets=get_reduced_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
+        python=get_python,
         scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/reduced/{{case}}_{{model}}.log",

@@ -14,6 +14,7 @@ rule specimen_run:
         sets=get_specimen_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
+        python=get_python,
         scene=lambda wildcards: get_file_digest(get_specimen_scene(wildcards)),
     log:
         f"{R}/logs/specimens/{{case}}.log",

@@ -13,6 +13,7 @@ rule hard_case_run:
         sets=get_hard_case_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
+        python=get_python,
         scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/stability/{{hard}}.log",

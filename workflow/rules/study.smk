@@ -2,26 +2,41 @@ STATISTICS_CAPTIONS = ["statistics", "correlations", "increase", "workflow"]  # 
 
 
 rule sample:
-    """Latin Hypercube samples of both variants (docs/study.md, 7) and the
-    achieved correlations."""
-    input:
-        template=get_template("sampling_check"),
+    """Latin Hypercube samples of both variants (docs/study.md, 7).  Only
+    what decides the samples is its params and code: a rerun of this rule
+    reruns every simulation (Snakemake plans them before it sees the
+    samples unchanged), so their check is a rule of its own."""
     output:
         nonspatial=f"{R}/study/samples_nonspatial.json",
         spatial=f"{R}/study/samples_spatial.json",
-        check=report(f"{R}/study/sampling_check.csv", caption=get_caption("sampling_check"), category="Study"),
-        caption=get_caption_file("sampling_check"),
     params:
-        code=get_code("sample", modules=("sampling.py",)),
         # only what sampling reads: a change of any other study setting
-        # (levels, curve points) must not redraw the samples and so rerun
-        # every simulation
+        # (levels, curve points) must not redraw the samples
         n_samples=config["study"]["n_samples"],
         seed=config["study"]["seed"],
+        code=get_code("sample"),
     log:
         f"{R}/logs/study/sample.log",
     script:
         "../scripts/sample.py"
+
+
+rule sampling_check:
+    """The samples' achieved correlations and distributions against the
+    targets."""
+    input:
+        template=get_template("sampling_check"),
+    output:
+        check=report(f"{R}/study/sampling_check.csv", caption=get_caption("sampling_check"), category="Study"),
+        caption=get_caption_file("sampling_check"),
+    params:
+        n_samples=config["study"]["n_samples"],
+        seed=config["study"]["seed"],
+        code=get_code("sampling_check"),
+    log:
+        f"{R}/logs/study/sampling_check.log",
+    script:
+        "../scripts/sampling_check.py"
 
 
 rule simulate:
@@ -36,6 +51,7 @@ rule simulate:
         sets=get_study_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
+        python=get_python,
         scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/study/{{variant}}_sv{{sv}}_s{{sample}}.log",
@@ -43,7 +59,7 @@ rule simulate:
     shell:
         # the command line as in RUN, no script wrapper: a light job that starts
         # in a fraction of a second, its row and curve as JSON
-        "{PYTHON:q} -m masonrydem.cli run {input.scene:q} {params.sets} --out {params.out:q} "
+        "{params.python:q} -m masonrydem.cli run {input.scene:q} {params.sets} --out {params.out:q} "
         "--threads {threads} --exit-zero --format json --samples {input.samples:q} --sample {wildcards.sample} "
         "--variant {wildcards.variant} > {log:q} 2>&1"
 

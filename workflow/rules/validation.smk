@@ -17,6 +17,7 @@ rule validation_run:
         sets=get_validation_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
+        python=get_python,
         scene=get_file_digest(config["scene"]),
     log:
         f"{R}/logs/validation/{{case}}_sv{{sv}}.log",

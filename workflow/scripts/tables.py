@@ -1,0 +1,16 @@
+"""The study's key tables as pages of the report (HTML: the report shows
+them in place; the CSVs stay the data)."""
+import sys
+from pathlib import Path
+
+sm = snakemake  # noqa: F821
+sys.stderr = sys.stdout = open(sm.log[0], "w")
+
+import pandas as pd  # noqa: E402
+
+from masonrydem import captions  # noqa: E402
+
+for name, title in sm.params.titles.items():
+    table = pd.read_csv(sm.input[name])
+    Path(sm.output[name]).write_text(captions.html_table(table, title))
+    print(name, table.shape)
