@@ -73,3 +73,42 @@ def test_failed_run_still_recorded(tmp_path):
     assert r.returncode == 1
     row = pd.read_parquet(tmp_path / "result.parquet").iloc[0]
     assert row["status"] == "max_steps" and not row["ok"]
+
+
+def test_every_stage_reports_its_start_and_end_in_a_log(tmp_path):
+    r = _cli("run", WILLIS, *SMALL, "--set", "loading.precompression.pressure=0.15e6",
+             "--set", "loading.bending.max_steps=300", "--exit-zero", "--out", str(tmp_path))
+    assert r.returncode == 0, r.stderr
+    lines = [line.split("]")[0] + "] " + line.split("] ")[1].split(" ")[0] for line in r.stderr.splitlines()
+             if line.startswith("[")]
+    stages = [line for line in lines if not line.endswith("step")]     # the periodic lines aside
+    assert stages == ["[build] 24", "[precompression] started", "[precompression] converged", "[bending] started",
+                      "[bending] max_steps"]
+    assert "\r" not in r.stderr                                       # no bar in a log
+
+
+def test_a_terminal_gets_a_bar_redrawn_in_place():
+    import io
+    import types
+
+    import numpy as np
+
+    from masonrydem.protocol import Progress
+    from masonrydem.stops import Ending
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    out = Terminal()
+    p = Progress("bending", share=lambda h: 0.5, stream=out)
+    p.last = -np.inf
+    history = types.SimpleNamespace(monitors=1, force=np.array([[2e3]]), disp=np.array([[1e-4]]),
+                                    ratio=np.array([1e-3]))
+    p(types.SimpleNamespace(step=100), history)
+    p.end(types.SimpleNamespace(step=200), Ending("load_drop", "load fell", 200, 1.0))
+    text = out.getvalue()
+    assert text.startswith("[bending] started\n")
+    assert "\r[bending] step      100  load    2.000 kN  disp  0.1000 mm" in text
+    assert "[##########..........]  50%" in text
+    assert text.rsplit("\r", 1)[1].startswith("\x1b[K[bending] load_drop at step 200: load fell (")

@@ -43,28 +43,57 @@ class Outcome(NamedTuple):
 
 
 class Progress:
-    """Prints step, load, displacement and ratio every ``every`` seconds."""
+    """A stage's progress on ``stream``: a line when it starts and when it
+    ends; in between, on a terminal, a bar redrawn in place (the share of
+    the way: the load line's displacement over max_displacement, or the
+    unbalanced-force ratio's way down to ratio_tol on a log scale), and
+    elsewhere (a log) a line every ``every`` seconds."""
 
-    def __init__(self, stage, u0=0.0, every=2.0, stream=sys.stderr):
-        self.stage, self.u0, self.every, self.stream = stage, u0, every, stream
+    def __init__(self, stage, share, u0=0.0, every=2.0, stream=None):
+        stream = stream if stream is not None else sys.stderr
+        self.stage, self.share, self.u0, self.stream = stage, share, u0, stream
+        self.tty = stream.isatty()
+        self.every = 0.2 if self.tty else every
         self.t0 = self.last = time.perf_counter()
+        print(f"[{stage}] started", file=stream, flush=True)
+
+    def _line(self, state, history):
+        P, u = (history.force[-1, 0], history.disp[-1, 0]) if history.monitors else (0.0, 0.0)
+        return (f"[{self.stage}] step {state.step:8d}  load {P / 1e3:8.3f} kN  disp {(u - self.u0) * 1e3:7.4f} mm"
+                f"  ratio {history.ratio[-1]:.2e}  ({time.perf_counter() - self.t0:.0f} s)")
 
     def __call__(self, state, history):
         now = time.perf_counter()
         if now - self.last < self.every:
             return
         self.last = now
-        P, u = (history.force[-1, 0], history.disp[-1, 0]) if history.monitors else (0.0, 0.0)
-        print(f"[{self.stage}] step {state.step:8d}  load {P / 1e3:8.3f} kN  disp {(u - self.u0) * 1e3:7.4f} mm"
-              f"  ratio {history.ratio[-1]:.2e}  ({now - self.t0:.0f} s)", file=self.stream, flush=True)
+        if not self.tty:
+            print(self._line(state, history), file=self.stream, flush=True)
+            return
+        done = min(max(self.share(history), 0.0), 1.0)
+        bar = "#" * round(20 * done) + "." * (20 - round(20 * done))
+        print(f"\r{self._line(state, history)}  [{bar}] {done:4.0%}", end="", file=self.stream, flush=True)
+
+    def end(self, state, ending):
+        clear = "\r\x1b[K" if self.tty else ""      # the bar's line, rewritten
+        print(f"{clear}[{self.stage}] {ending.status} at step {state.step}: "
+              f"{ending.message} ({time.perf_counter() - self.t0:.1f} s)", file=self.stream, flush=True)
+
+
+def _stage(name, progress, share, u0=0.0):
+    """The stage's Progress, or None without progress."""
+    return Progress(name, share, u0) if progress else None
 
 
 def precompress(state, specimen, progress=False):
     """The precompression stage: the applied pressure at rest, run until the
     unbalanced-force ratio falls below ratio_tol (or max_steps)."""
     pre, num = specimen.scene.loading.precompression, specimen.scene.numerics
+    shown = _stage("precompression", progress, lambda h: math.log10(max(h.ratio[-1], 1e-300)) / math.log10(pre.ratio_tol))
     state, record, ending = run(state, pre.max_steps, Stops(ratio_tol=pre.ratio_tol), chunk=CHUNK,
-                                record_every=num.record_every, progress=Progress("precompression") if progress else None)
+                                record_every=num.record_every, progress=shown)
+    if shown:
+        shown.end(state, ending)
     return state, Stage(record, ending)
 
 
@@ -77,9 +106,11 @@ def load(state, specimen, u0, progress=False):
     state = prescribe(state, specimen.drive, specimen.velocity)
     stops = Stops(disp_limit=u0 + drive.max_displacement, load_drop=drive.load_drop, monitor="load",
                   balance="support")
+    shown = _stage(specimen.test, progress, lambda h: (h.disp[-1, 0] - u0) / drive.max_displacement, u0)
     state, record, ending = run(state, drive.max_steps, stops, Controls(ramp_steps=drive.ramp_steps), chunk=CHUNK,
-                                record_every=num.record_every,
-                                progress=Progress(specimen.test, u0) if progress else None)
+                                record_every=num.record_every, progress=shown)
+    if shown:
+        shown.end(state, ending)
     return state, Stage(record, ending)
 
 
@@ -119,6 +150,11 @@ def simulate(scene, progress=True):
     and judges the run.  Returns an Outcome."""
     t0 = time.perf_counter()
     specimen = build(scene)
+    if progress:
+        a = specimen.assembly
+        print(f"[build] {len(specimen.units)} units, {len(specimen.joints)} joints: {a.zones.tets.shape[0]} tetrahedra, "
+              f"{a.cells.nodes.shape[0]} linear cells, {a.joints.area.size} sub-contacts ({time.perf_counter() - t0:.1f} s)",
+              file=sys.stderr, flush=True)
     num = scene.numerics
     state = init(specimen.assembly, Numerics(damping=num.damping, safety=num.safety))
     pre = test = None

@@ -17,6 +17,8 @@ rule accuracy_run:
     log:
         f"{R}/logs/accuracy/{{case}}_{{setting}}.log",
     threads: 1
+    conda:
+        ENV
     shell:
         RUN
 
@@ -74,6 +76,8 @@ rule accuracy_summary:
         path_tolerance=config.get("accuracy", {}).get("path_tolerance"),
     log:
         f"{R}/logs/accuracy/summary.log",
+    conda:
+        ENV
     script:
         "../scripts/accuracy_summary.py"
 
@@ -95,6 +99,8 @@ rule accuracy_scaling:
         settings=plan.scaling_settings(config),
     log:
         f"{R}/logs/accuracy/scaling.log",
+    conda:
+        ENV
     script:
         "../scripts/accuracy_scaling.py"
 
@@ -117,6 +123,8 @@ rule accuracy_subsample:
         fine=plan.subsample_fine(config),
     log:
         f"{R}/logs/accuracy/subsample.log",
+    conda:
+        ENV
     script:
         "../scripts/accuracy_subsample.py"
 

@@ -23,6 +23,8 @@ rule figures:
         code=get_code("figures"),
     log:
         f"{R}/logs/study/figures.log",
+    conda:
+        ENV
     script:
         "../scripts/figures.py"
 
@@ -47,6 +49,8 @@ rule regression:
         bootstrap=config["study"]["bootstrap"],
     log:
         f"{R}/logs/study/regression.log",
+    conda:
+        ENV
     script:
         "../scripts/regression.py"
 
@@ -71,6 +75,8 @@ rule scorecard:
         bootstrap=config["study"]["bootstrap"],
     log:
         f"{R}/logs/study/scorecard.log",
+    conda:
+        ENV
     script:
         "../scripts/scorecard.py"
 
@@ -87,5 +93,7 @@ rule tables:
         titles={name: title for name, (title, _, _) in TABLES.items()},
     log:
         f"{R}/logs/study/tables.log",
+    conda:
+        ENV
     script:
         "../scripts/tables.py"

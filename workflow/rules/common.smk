@@ -11,6 +11,9 @@ validate(config, "../../config/schema.yaml", set_default=True)
 # refused at planning, naming the setting: NaN or infinite values, overrides the scene refuses
 plan.check(config)
 R = config["results"]  # root of every output (config/smoke.yaml: .test/results)
+# every rule's software for --sdm conda: the package from this checkout
+# (workflow/envs/masonrydem.yaml; the make commands use the venv instead)
+ENV = "../envs/masonrydem.yaml"
 
 
 def get_caption(name):

@@ -20,6 +20,8 @@ rule modelform_run:
     log:
         f"{R}/logs/modelform/{{case}}_sv{{sv}}_{{option}}.log",
     threads: 1
+    conda:
+        ENV
     shell:
         RUN
 
@@ -40,5 +42,7 @@ rule modelform:
         assumptions=config.get("modelform", {}).get("assumptions", []),
     log:
         f"{R}/logs/modelform/summary.log",
+    conda:
+        ENV
     script:
         "../scripts/modelform.py"

@@ -10,6 +10,8 @@ rule damage_picture:
         code=get_code("damage_picture"),
     log:
         f"{R}/logs/validation/damage_{{run}}.log",
+    conda:
+        ENV
     script:
         "../scripts/damage_picture.py"
 
@@ -33,5 +35,7 @@ rule study_pictures:
     log:
         f"{R}/logs/study/pictures.log",
     threads: 1
+    conda:
+        ENV
     script:
         "../scripts/study_pictures.py"

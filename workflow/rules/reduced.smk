@@ -24,6 +24,8 @@ rule reduced_run:
     log:
         f"{R}/logs/reduced/{{case}}_{{model}}.log",
     threads: 1
+    conda:
+        ENV
     shell:
         RUN
 
@@ -43,5 +45,7 @@ rule reduced:
         tolerance=config.get("reduced", {}).get("tolerance"),
     log:
         f"{R}/logs/reduced/summary.log",
+    conda:
+        ENV
     script:
         "../scripts/reduced.py"

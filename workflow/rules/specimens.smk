@@ -19,6 +19,8 @@ rule specimen_run:
     log:
         f"{R}/logs/specimens/{{case}}.log",
     threads: 1
+    conda:
+        ENV
     shell:
         RUN
 
@@ -40,5 +42,7 @@ rule specimens:
         cases=plan.specimen_cases(config),
     log:
         f"{R}/logs/specimens/summary.log",
+    conda:
+        ENV
     script:
         "../scripts/specimens.py"

@@ -18,6 +18,8 @@ rule hard_case_run:
     log:
         f"{R}/logs/stability/{{hard}}.log",
     threads: 1
+    conda:
+        ENV
     shell:
         RUN
 
@@ -37,6 +39,8 @@ rule hard_cases:
         expect=plan.hard_case_expect(config),
     log:
         f"{R}/logs/stability/hard_cases.log",
+    conda:
+        ENV
     script:
         "../scripts/hard_cases.py"
 

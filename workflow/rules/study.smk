@@ -17,6 +17,8 @@ rule sample:
         code=get_code("sample"),
     log:
         f"{R}/logs/study/sample.log",
+    conda:
+        ENV
     script:
         "../scripts/sample.py"
 
@@ -35,6 +37,8 @@ rule sampling_check:
         code=get_code("sampling_check"),
     log:
         f"{R}/logs/study/sampling_check.log",
+    conda:
+        ENV
     script:
         "../scripts/sampling_check.py"
 
@@ -56,6 +60,8 @@ rule simulate:
     log:
         f"{R}/logs/study/{{variant}}_sv{{sv}}_s{{sample}}.log",
     threads: 1
+    conda:
+        ENV
     shell:
         # the command line as in RUN, no script wrapper: a light job that starts
         # in a fraction of a second, its row and curve as JSON
@@ -78,6 +84,8 @@ rule collect:
         curve_points=config["study"]["curve_points"],
     log:
         f"{R}/logs/study/collect.log",
+    conda:
+        ENV
     script:
         "../scripts/collect.py"
 
@@ -98,6 +106,8 @@ rule statistics:
         bootstrap=config["study"]["bootstrap"],
     log:
         f"{R}/logs/study/statistics.log",
+    conda:
+        ENV
     script:
         "../scripts/statistics.py"
 

@@ -22,6 +22,8 @@ rule validation_run:
     log:
         f"{R}/logs/validation/{{case}}_sv{{sv}}.log",
     threads: 1
+    conda:
+        ENV
     shell:
         RUN
 
@@ -44,6 +46,8 @@ rule validation_summary:
         runs=plan.validation_runs(config),
     log:
         f"{R}/logs/validation/summary.log",
+    conda:
+        ENV
     script:
         "../scripts/validation_summary.py"
 
@@ -59,5 +63,7 @@ rule model_numbering:
         code=get_code("model_numbering"),
     log:
         f"{R}/logs/validation/model_numbering.log",
+    conda:
+        ENV
     script:
         "../scripts/model_numbering.py"
