@@ -137,7 +137,7 @@ def picture_numbering(specimen, path, window=(1600, 1000)):
 # joints' damage in blues: brick and joint failure told apart at a glance
 UNIT_CMAP = LinearSegmentedColormap.from_list("unit cracking", ["#cdbfa6", "#e34a33", "#67000d"])
 JOINT_CMAP = LinearSegmentedColormap.from_list("joint damage", ["#c6dbef", "#2171b5", "#08306b"])
-SHOWN = 0.05        # a sub-contact with a smaller damage is not drawn
+SHOWN = 0.05        # a band's position whose largest damage is smaller is not drawn
 
 
 def _bands(joints, magnify, crack, thickness, width=0.012):
@@ -158,9 +158,8 @@ def _bands(joints, magnify, crack, thickness, width=0.012):
     D = np.zeros(n)
     np.maximum.at(D, group, d)
     length = np.bincount(group, area, n) / thickness
-    back = np.full(n, -1)                               # the group's sub-contact nearest the back face
-    order = np.argsort(x0[:, 1])
-    back[group[order]] = order
+    order = np.lexsort((x0[:, 1], group))               # by group, then towards the back face
+    back = order[np.r_[np.flatnonzero(np.diff(group[order])), len(order) - 1]] if n else order
     shown = D >= SHOWN
     c = (x0 + magnify * u)[back[shown]] + [0.0, 0.003, 0.0]
     ax = along[back[shown]]
@@ -177,12 +176,12 @@ def _bands(joints, magnify, crack, thickness, width=0.012):
 def picture_damage(state, path, title="", magnify=None, window=(1600, 1000)):
     """The cracked, deformed state (a MultiBlock from ``state_blocks`` or
     read from state.vtm), seen from the back (tension) face: the units as
-    translucent solids with their edges, coloured by tensile damage (cells
-    with damage >= 0.5 solid); the damaged sub-contacts (D >= SHOWN) as
-    squares in their joint's plane, the units' crack interfaces in the
-    units' reds and the mortar joints in blues; displacements magnified (by
-    default so that the largest is 3 % of the wall length), so that open
-    joints show as gaps.  Returns the magnification."""
+    solids with their edges, coloured by tensile damage (cells with damage
+    >= 0.5 darkest); the cracks as bands (``_bands``) on the back face, the
+    units' crack interfaces in the units' reds and the mortar joints in
+    blues; displacements magnified (by default so that the largest is 3 %
+    of the wall length), so that an open joint shows as a gap.  Returns the
+    magnification."""
     zones, joints = state["zones"], state["joints"]
     if magnify is None:
         umax = float(np.abs(zones.point_data["u"]).max())
@@ -191,22 +190,22 @@ def picture_damage(state, path, title="", magnify=None, window=(1600, 1000)):
     p = pv.Plotter(off_screen=True, window_size=window)
     bar = dict(vertical=False, position_y=0.03, width=0.38, height=0.07, title_font_size=18, label_font_size=14,
                n_labels=5, fmt="%.2f")
-    p.add_mesh(zones, scalars="damage", cmap=UNIT_CMAP, clim=(0, 1), 
+    p.add_mesh(zones, scalars="damage", cmap=UNIT_CMAP, clim=(0, 1),
                scalar_bar_args=dict(title="unit cracking: cell damage, crack interface D", position_x=0.06, **bar))
-    p.add_mesh(zones.extract_surface(algorithm="dataset_surface").extract_feature_edges(boundary_edges=False, non_manifold_edges=False,
-                                                             manifold_edges=False, feature_angle=30),
-               color="#5a5a5a", line_width=1)
+    edges = zones.extract_surface(algorithm="dataset_surface").extract_feature_edges(
+        boundary_edges=False, non_manifold_edges=False, manifold_edges=False, feature_angle=30)
+    p.add_mesh(edges, color="#5a5a5a", line_width=1)
     cracked = zones.threshold(0.5, scalars="damage")
     if cracked.n_cells:
         p.add_mesh(cracked, color=UNIT_CMAP(1.0)[:3], show_scalar_bar=False)
     thickness = float(np.ptp(state["zones"].points[:, 1]))
     for crack, cmap in ((1, UNIT_CMAP), (0, JOINT_CMAP)):
-        patches = _bands(joints, magnify, crack, thickness)
-        if patches.n_cells:
-            p.add_mesh(patches, scalars="damage", cmap=cmap, clim=(0, 1), show_scalar_bar=not crack, lighting=False,
+        bands = _bands(joints, magnify, crack, thickness)
+        if bands.n_cells:
+            p.add_mesh(bands, scalars="damage", cmap=cmap, clim=(0, 1), show_scalar_bar=not crack, lighting=False,
                        scalar_bar_args=dict(title="mortar joint damage D", position_x=0.56, **bar))
     p.add_text(f"{title}\nback (tension) face, displacements x {magnify:.0f}; bands: a joint's largest damage "
-               f"through the thickness (from {SHOWN:g}); unit cells with damage >= 0.5 solid", font_size=11)
+               f"through the thickness (from {SHOWN:g}); unit cells with damage >= 0.5 darkest", font_size=11)
     _camera(p, back=True)
     p.screenshot(str(path))
     p.close()

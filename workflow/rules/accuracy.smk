@@ -61,7 +61,6 @@ rule accuracy_summary:
         convergence=report(f"{R}/accuracy/convergence.csv", caption=get_caption("accuracy_convergence"),
                            category="Accuracy"),
         choice=report(f"{R}/accuracy/choice.csv", caption=get_caption("accuracy_choice"), category="Accuracy"),
-        pareto=report(f"{R}/accuracy/pareto.png", caption=get_caption("accuracy_choice"), category="Accuracy"),
         captions=[get_caption_file("accuracy_convergence"), get_caption_file("accuracy_choice")],
     params:
         code=get_code("accuracy_summary"),
@@ -90,7 +89,6 @@ rule accuracy_scaling:
         template=get_template("accuracy_scaling"),
     output:
         table=report(f"{R}/accuracy/scaling.csv", caption=get_caption("accuracy_scaling"), category="Accuracy"),
-        figure=report(f"{R}/accuracy/scaling.png", caption=get_caption("accuracy_scaling"), category="Accuracy"),
         caption=get_caption_file("accuracy_scaling"),
     params:
         code=get_code("accuracy_scaling"),
@@ -103,6 +101,28 @@ rule accuracy_scaling:
         ENV
     script:
         "../scripts/accuracy_scaling.py"
+
+
+rule accuracy_figures:
+    """The accuracy study's figures, drawn from its tables alone: they can be
+    redrawn where the accuracy runs are not (a clone)."""
+    input:
+        runs=f"{R}/accuracy/runs.csv",
+        convergence=f"{R}/accuracy/convergence.csv",
+        choice=f"{R}/accuracy/choice.csv",
+        scaling=f"{R}/accuracy/scaling.csv",
+    output:
+        pareto=report(f"{R}/accuracy/pareto.png", caption=get_caption("accuracy_choice"), category="Accuracy"),
+        scaling=report(f"{R}/accuracy/scaling.png", caption=get_caption("accuracy_scaling"), category="Accuracy"),
+    params:
+        code=get_code("accuracy_figures"),
+        tolerance=config.get("accuracy", {}).get("tolerance"),
+    log:
+        f"{R}/logs/accuracy/figures.log",
+    conda:
+        ENV
+    script:
+        "../scripts/accuracy_figures.py"
 
 
 rule accuracy_subsample:

@@ -6,11 +6,10 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import accuracy, captions, figures  # noqa: E402
+from masonrydem import accuracy, captions  # noqa: E402
 
 units = pd.concat([pd.read_parquet(p) for p in sm.input.scaling], ignore_index=True).assign(courses=sm.params.courses)
-table, tables, fits = accuracy.scaling(units, pd.read_csv(sm.input.runs), sm.params.settings)
+table, _, _ = accuracy.scaling(units, pd.read_csv(sm.input.runs), sm.params.settings)
 table.to_csv(sm.output.table, index=False, float_format="%.6g")
 print(table.to_string())
 captions.write_caption(sm.input.template, sm.output.caption, **captions.accuracy_scaling(table, sm.params.courses))
-figures.accuracy_scaling(tables["units"], tables["cells"], fits, sm.output.figure)

@@ -7,7 +7,7 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import accuracy, captions, figures  # noqa: E402
+from masonrydem import accuracy, captions  # noqa: E402
 
 COLUMNS = ["P_max_kN", "failure_mode", "ok", "status", "steps", "wall_time_s", "blocks", "cells", "subcontact_refine",
            "tets", "subcontacts", "units"]
@@ -26,4 +26,3 @@ print("defaults (config numerics):", sm.params.numerics)
 captions.write_caption(sm.input.templates[0], sm.output.captions[0], **captions.accuracy_convergence(conv))
 captions.write_caption(sm.input.templates[1], sm.output.captions[1], **captions.accuracy_choice(
     table, conv, choice, sm.params.baselines, tolerance, sm.params.numerics))
-figures.accuracy_pareto(table, conv, choice, tolerance, sm.output.pareto)
