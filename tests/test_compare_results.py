@@ -40,3 +40,11 @@ def test_a_changed_value_or_a_missing_run_fails_and_is_named(tmp_path, capsys):
     runs.iloc[:2].to_parquet(b / "study" / "runs.parquet")
     assert compare_results.main([str(a), str(b)]) == 1
     assert "left_only" in capsys.readouterr().out
+
+
+def test_a_copied_table_is_not_counted_as_reproduced(tmp_path, capsys):
+    a = _results(tmp_path / "a", [12.5, 14.0, 15.0])
+    b = _results(tmp_path / "b", [12.5, 14.0, 15.0])
+    assert compare_results.main([str(a), str(b), "--copied", "study/runs.parquet"]) == 0
+    out = capsys.readouterr().out
+    assert "study runs: not rerun (copied from the committed results)" in out and "identical" not in out

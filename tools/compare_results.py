@@ -8,8 +8,10 @@ hard cases, reduced models, specimens, model-form and accuracy tables) it
 matches the runs by their keys and compares P_max, the step count, the
 failure mode and the status, exactly, at the precision the table is
 written with (full for runs.parquet, the CSV's digits for the others).
-Wall times are not compared.  A table the reproduction does not have is
-reported as not rerun.  Exit status 1 when a run differs or is missing.
+Wall times are not compared.  A table the reproduction does not have, or
+one named with --copied (copied in from the committed results for its
+report, as `make reproduce` does with the accuracy study's), is reported as
+not rerun.  Exit status 1 when a run differs or is missing.
 """
 import argparse
 import sys
@@ -50,11 +52,14 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("committed", type=Path, help="the committed results folder (results)")
     ap.add_argument("new", type=Path, help="the reproduction's results folder")
+    ap.add_argument("--copied", nargs="*", default=[], metavar="TABLE",
+                    help="tables (e.g. accuracy/runs.csv) the reproduction copied rather than rerun")
     args = ap.parse_args(argv)
     differ = 0
     for table, keys, name in TABLES:
-        if not (args.new / table).is_file():
-            print(f"{name}: not rerun ({table} is not in {args.new})")
+        if not (args.new / table).is_file() or table in args.copied:
+            why = "copied from the committed results" if table in args.copied else f"{table} is not in {args.new}"
+            print(f"{name}: not rerun ({why})")
             continue
         m = compare(read(args.committed / table), read(args.new / table), keys)
         bad = m[~m["same"]]

@@ -58,7 +58,7 @@ rule model_numbering:
         scene=config["scene"],
     output:
         report(f"{R}/validation/model_numbering.png", caption="../report/model_numbering.rst",
-               category="3-D pictures"),
+               category="3-D pictures", subcategory="numbering of units and joints"),
     params:
         code=get_code("model_numbering"),
     log:
