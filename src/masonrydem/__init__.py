@@ -7,20 +7,30 @@ from .model import Model
 
 __version__ = "0.1.0"
 
-# modules that do not decide what a simulation computes (the analysis of
-# results, figures, the workflow's planning)
-ANALYSIS_ONLY = ("accuracy.py", "analysis.py", "captions.py", "figures.py", "plan.py", "sampling.py",
-                 "validation.py")
+# A module that does not decide what a simulation computes (the analysis of
+# results, figures, the workflow's planning) says so itself, with a line
+# 'ANALYSIS_ONLY = True': a new one is then left out of the source hash
+# without a change here.
+_MARK = b"\nANALYSIS_ONLY = True"
+
+
+def __getattr__(name):
+    """masonrydem.ANALYSIS_ONLY: the names of the modules marked analysis-only."""
+    if name == "ANALYSIS_ONLY":
+        from pathlib import Path
+        return tuple(sorted(p.name for p in Path(__file__).parent.glob("*.py") if _MARK in p.read_bytes()))
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def simulation_sources():
     """The package's files that decide what a simulation computes: every
-    module and data file but those of ANALYSIS_ONLY (a new module counts
-    unless it is listed there)."""
+    module and data file but the analysis-only ones (ANALYSIS_ONLY; a new
+    module counts unless it says it is one)."""
     from pathlib import Path
     here = Path(__file__).parent
+    skip = set(__getattr__("ANALYSIS_ONLY"))
     return sorted(p.relative_to(here).as_posix() for p in here.rglob("*")
-                  if p.suffix in (".py", ".yaml") and p.name not in ANALYSIS_ONLY and "__pycache__" not in p.parts)
+                  if p.suffix in (".py", ".yaml") and p.name not in skip and "__pycache__" not in p.parts)
 
 
 def source_code(name, text):

@@ -8,6 +8,8 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import brentq
 
+ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
+
 
 def richardson(n, P):
     """Generalised Richardson extrapolation from three levels of refinement

@@ -19,6 +19,8 @@ from sklearn.preprocessing import StandardScaler
 
 from .sampling import STUDY_VARIABLES
 
+ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
+
 INPUTS = ("f_tj_mpa", "f_tu_mpa", "phi_j_deg", "E_b_mpa")
 # the means of their distributions (docs/study.md, 6) in the units of the runs table
 _COLUMN = {"f_tj": ("f_tj_mpa", 1e-6), "f_tu": ("f_tu_mpa", 1e-6), "phi_j": ("phi_j_deg", 1.0), "E_b": ("E_b_mpa", 1e-6)}

@@ -1,6 +1,7 @@
 """Assembly: a Model packed into the kernels' containers (``Model.build``).
 
-Deformable blocks: nodes (the blocks' gridpoints, then one per strip),
+Deformable blocks: nodes (the blocks' gridpoints, then one per strip,
+then a second one per strip that turns),
 zones, joints and the strips' bearings, the Gershgorin bound of each
 node's stiffness.  Rigid blocks: one body per block (then one per strip),
 with its mass, principal inertia, lever scale and the bounds of its
@@ -48,6 +49,7 @@ class Assembly:
     cell_ptr: np.ndarray          # (blocks + 1,) its linear cells: cell_ptr[b]:cell_ptr[b + 1]
     strips: tuple                 # contacts.Strip
     strip_nodes: np.ndarray       # (strips,) the node of each strip (after the block nodes)
+    turn_nodes: np.ndarray        # deformable: (strips that turn,) the second node of each (after the strips')
     monitor_names: tuple          # the name of each monitor group
     gravity: np.ndarray           # (3,) m/s^2
 
@@ -72,11 +74,16 @@ def assemble(model):
         raise InputError("physics.displacements", "large displacements need rigid blocks: deformable "
                          "blocks are small-displacement (strains on the initial geometry)")
     nb = model.n_nodes
-    x0 = np.zeros((nb + len(model.strips), 3))
+    x0 = np.zeros((nb + len(model.strips) + (0 if model.rigid else _turning(model)), 3))
     x0[:nb] = model.x0
     common = _common(model, x0)
     maps = _index_maps(model)
     return _rigid(model, x0, maps, **common) if model.rigid else _deformable(model, x0, maps, **common)
+
+
+def _turning(model):
+    """The number of strips that turn."""
+    return sum(s.turn >= 0 for s in model.strips)
 
 
 def _index_maps(model):
@@ -88,6 +95,8 @@ def _index_maps(model):
     return dict(blocks=tuple(model.blocks), zone_ptr=np.concatenate([[0], np.cumsum(nz)]).astype(np.int64),
                 cell_ptr=np.concatenate([[0], np.cumsum(nc)]).astype(np.int64), strips=tuple(model.strips),
                 strip_nodes=model.n_nodes + np.arange(len(model.strips), dtype=np.int64),
+                turn_nodes=model.n_nodes + len(model.strips) + np.arange(0 if model.rigid else _turning(model),
+                                                                         dtype=np.int64),
                 monitor_names=tuple(name for name, _, _ in model.monitors),
                 gravity=np.asarray(model.gravity, float).copy())
 
@@ -104,6 +113,8 @@ def _common(model, x0):
     bearings, bearing_points = model.strip_subcontacts.pack()
     strip_side = bearings.nodes[:, 4]
     bearings.nodes[:, 4] = np.where(strip_side < 0, nb - strip_side - 1, strip_side)
+    turn_side = bearings.nodes[:, 5]
+    bearings.nodes[:, 5] = np.where(turn_side < 0, nb + len(model.strips) - turn_side - 1, turn_side)
     joints, bearings = with_gather(joints, nn), with_gather(bearings, nn)
     fixed = np.zeros((nn, 3), np.uint8)
     vpres = np.zeros((nn, 3))
@@ -114,7 +125,12 @@ def _common(model, x0):
     for s in model.strips:
         x0[nb + s.index] = s.x0
         fixed[nb + s.index] = 1
+        fixed[nb + s.index, list(s.free)] = 0
         vpres[nb + s.index] = s.velocity
+        if s.turn >= 0 and not model.rigid:     # its second node moves along the strip's normal only
+            x0[nb + len(model.strips) + s.turn_index] = s.x0
+            fixed[nb + len(model.strips) + s.turn_index] = 1
+            fixed[nb + len(model.strips) + s.turn_index, s.axis] = 0
     mon_nodes, mon_dir, mon_grp = [], [], []
     for g, (_, items, d) in enumerate(model.monitors):
         nodes = [nb + it.index if isinstance(it, Strip) else int(it) for it in items]
@@ -148,6 +164,9 @@ def _deformable(model, x0, maps, jlaw, joints, bearings, joint_points, bearing_p
     fext = np.zeros((nn, 3))
     for nd, f in model.forces.items():
         fext[nd] += f
+    for s in model.strips:
+        if s.force is not None:
+            fext[model.n_nodes + s.index] += s.force
     mphys = np.zeros(nn)
     stiff = np.zeros((nn, 3))
     if zb:
@@ -167,7 +186,7 @@ def _deformable(model, x0, maps, jlaw, joints, bearings, joint_points, bearing_p
         joint_points=joint_points, bearing_points=bearing_points, contacts=contacts, stiffness=stiff,
         rot_stiffness=np.zeros(0), inertia=np.zeros((0, 3)), h_min=float(np.min(np.concatenate(sizes))),
         block_of_node=np.concatenate([np.full(b.n_nodes, b.id) for b in model.blocks]
-                                     + [np.full(len(model.strips), -1)]), **maps)
+                                     + [np.full(nn - model.n_nodes, -1)]), **maps)
 
 
 def _zones(blocks, x0):
@@ -247,6 +266,9 @@ def _rigid(model, x0, maps, jlaw, joints, bearings, joint_points, bearing_points
         rlen[b.node0] = 0.5 * float(np.linalg.norm(size))
     rfixed = np.zeros((nn, 3), np.uint8)
     rfixed[nb:] = 1
+    for s in model.strips:
+        if s.turn >= 0:
+            rfixed[nb + s.index, s.turn] = 0
     ompres = np.zeros((nn, 3))
     for bid, dd in model.rotation_fixities.items():
         for dof, w in dd.items():
@@ -257,7 +279,8 @@ def _rigid(model, x0, maps, jlaw, joints, bearings, joint_points, bearing_points
     kt, kr = np.zeros(nn), np.zeros(nn)
     rigid_contact_stiffness(kt, kr, joints)
     rigid_contact_stiffness(kt, kr, bearings)
-    loads = model.point_loads + [(nd, x0[nd], f) for nd, f in model.forces.items()]
+    loads = (model.point_loads + [(nd, x0[nd], f) for nd, f in model.forces.items()]
+             + [(nb + s.index, s.x0, s.force) for s in model.strips if s.force is not None])
     bodies = K.Bodies(
         R=np.repeat(np.eye(3)[None], nn, axis=0), om=np.zeros((nn, 3)), mom=np.zeros((nn, 3)),
         iinv=np.zeros((nn, 3, 3)), rfixed=rfixed, ompres=ompres, rlen=rlen, fl=np.zeros((nn, 3)),
@@ -271,4 +294,4 @@ def _rigid(model, x0, maps, jlaw, joints, bearings, joint_points, bearing_points
         bearing_points=bearing_points, contacts=contacts,
         stiffness=np.repeat(kt[:, None], 3, axis=1), rot_stiffness=kr, inertia=inertia,
         h_min=float(np.min(rlen)),
-        block_of_node=np.concatenate([np.arange(nb), np.full(len(model.strips), -1)]), **maps)
+        block_of_node=np.concatenate([np.arange(nb), np.full(nn - nb, -1)]), **maps)

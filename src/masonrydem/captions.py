@@ -11,6 +11,8 @@ import pandas as pd
 from . import accuracy
 from . import analysis as A
 
+ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
+
 
 def write_caption(template, path, **values):
     """A report caption: the text of ``template`` filled with ``values``."""

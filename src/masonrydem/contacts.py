@@ -28,7 +28,14 @@ class Contact:
 class Strip:
     """A rigid bearing strip (a support or load line): one node with a
     prescribed velocity, bearing on block faces through compression-only,
-    frictionless sub-contacts of stiffness kn (Pa/m)."""
+    frictionless sub-contacts of stiffness kn (Pa/m).  A strip that turns
+    (a roller or a line load: its resultant stays on its centre line) turns
+    about the long side of its rectangle: deformable blocks give it a
+    second node, whose component ``axis`` is the turn times the half width
+    (a sub-contact at xi half widths from the centre line moves with the
+    strip's node plus xi times it); a rigid strip body turns about that
+    axis.  Components in ``free`` are not prescribed: ``force`` acts on
+    them (a platen held by a force)."""
     name: str
     axis: int
     normal: int
@@ -38,6 +45,10 @@ class Strip:
     x0: np.ndarray        # its node's position: the centre of its rectangle
     velocity: np.ndarray
     index: int            # its number among the strips: its node is Assembly.strip_nodes[index]
+    turn: int = -1        # the global axis it turns about (-1: it does not turn)
+    turn_index: int = -1  # its number among the strips that turn: its second node is Assembly.turn_nodes[turn_index]
+    free: tuple = ()
+    force: np.ndarray = None
 
 
 @dataclass
@@ -168,17 +179,33 @@ def faces_on_plane(blocks, axis, coord, normal, rect):
     return out
 
 
-def bearing_strip(sc, blocks, index, name, axis, coord, normal, rect, kn, velocity, refine):
+def bearing_strip(sc, blocks, index, name, axis, coord, normal, rect, kn, velocity, refine, turn_index=-1,
+                  friction=0.0):
     """Strip number ``index`` (``Model.add_strip``): its bearing sub-contacts,
     added to ``sc``, at the points of the composite Simpson rule on the
     faces of ``blocks`` that it covers (refined ``refine`` per global axis),
-    side B the strip (-(index + 1) until the assembly numbers its node)."""
+    side B the strip (-(index + 1) until the assembly numbers its node).
+    A strip that turns (``turn_index`` >= 0) turns about the long side of
+    its rectangle; on deformable blocks side B also holds its second node
+    (-(turn_index + 1)) with the weight xi, the point's distance from the
+    centre line in half widths.  ``friction``: its Coulomb friction
+    coefficient on the faces (tangential stiffness kn where it is above 0)."""
     where = f"strips.{name}"
     if kn is None or not np.isfinite(kn) or kn <= 0:
         raise InputError(f"{where}.kn", f"must be a positive stiffness, got {kn!r}")
     velocity = check_3(f"{where}.velocity", velocity)
+    p, q = (axis + 1) % 3, (axis + 2) % 3
+    # the long side (p, or q if longer) is the turning axis; xi runs across it
+    long_p = rect[0][1] - rect[0][0] >= rect[1][1] - rect[1][0]
+    across = rect[1] if long_p else rect[0]
+    centre, half = 0.5 * (across[0] + across[1]), 0.5 * (across[1] - across[0])
+    deformable = not any(b.rigid for b in blocks)
+    if not (np.isfinite(friction) and friction >= 0):
+        raise InputError(f"{where}.friction", f"must be a non-negative number, got {friction!r}")
     row = np.zeros(K.N_JP)
     row[K.JP_KN] = kn
+    if friction > 0:
+        row[K.JP_KS], row[K.JP_TANPHI] = kn, friction
     axes = local_axes(axis, float(normal))
     points = []
     for b, side, r in faces_on_plane(blocks, axis, coord, normal, rect):
@@ -188,9 +215,12 @@ def bearing_strip(sc, blocks, index, name, axis, coord, normal, rect, kn, veloci
         raise InputError(f"{where}.rect", "the strip touches no block face")
     start = len(sc)
     for (na, wa), ar, pt in points:
-        sc.add(na, wa, [-(index + 1)], [1.0], axes, ar, row, pt)
-    p, q = (axis + 1) % 3, (axis + 2) % 3
+        if turn_index >= 0 and deformable:
+            sc.add(na, wa, [-(index + 1), -(turn_index + 1)], [1.0, (pt[q if long_p else p] - centre) / half],
+                   axes, ar, row, pt)
+        else:
+            sc.add(na, wa, [-(index + 1)], [1.0], axes, ar, row, pt)
     x0 = np.zeros(3)
     x0[axis], x0[p], x0[q] = coord, np.mean(rect[0]), np.mean(rect[1])
     return Strip(name, axis, int(normal), float(kn), slice(start, len(sc)), float(sum(p[1] for p in points)), x0,
-                 velocity, index)
+                 velocity, index, turn=(p if long_p else q) if turn_index >= 0 else -1, turn_index=turn_index)

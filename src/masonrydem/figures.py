@@ -10,6 +10,8 @@ import numpy as np  # noqa: E402
 
 from . import analysis as A  # noqa: E402
 
+ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
+
 MODES = {"joint": "tab:blue", "brick": "tab:red"}
 # pixels of the 3-D pictures (masonrydem.viz) that go into the report: at
 # 1600 x 1000 the six damage pictures took 2.9 MB of the committed report

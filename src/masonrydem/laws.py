@@ -141,6 +141,10 @@ JOINT_LAWS = {law.name: law for law in (
     JointLaw("brittle_coulomb", K.JOINT_BRITTLE_COULOMB, ("kn", "ks", "ft", "c", "phi")),
     JointLaw("coupled_softening", K.JOINT_COUPLED, ("kn", "ks", "ft", "c", "phi", "GI", "GII")),
     JointLaw("friction", K.JOINT_FRICTION, ("kn", "ks", "phi")),
+    # variants of coupled_softening for the model-form study (kernels.joints._softened)
+    JointLaw("coupled_exponential", K.JOINT_COUPLED_EXPONENTIAL, ("kn", "ks", "ft", "c", "phi", "GI", "GII")),
+    JointLaw("coupled_lourenco_rots", K.JOINT_COUPLED_ADDITIVE, ("kn", "ks", "ft", "c", "phi", "GI", "GII")),
+    JointLaw("coupled_friction_slip", K.JOINT_COUPLED_FRICTION_SLIP, ("kn", "ks", "ft", "c", "phi", "GI", "GII")),
 )}
 
 # a field's rule: (props, field name) -> None or InputError; a joint with
@@ -153,7 +157,14 @@ FIELD_RULES = {
     "phi": lambda p, f: _angle(f, p.phi),
     "GI": lambda p, f: p.ft > 0 and _positive(f, p.GI),
     "GII": lambda p, f: p.c > 0 and _positive(f, p.GII),
+    "residual": lambda p, f: _fraction(f, p.residual),
 }
+
+
+def _fraction(field, value):
+    if not (_number(value) and 0.0 < value <= 1.0):
+        raise InputError(field, f"must be in (0, 1], got {value!r}")
+    return float(value)
 
 
 def joint_law(name, field="joints.law"):
@@ -169,7 +180,9 @@ def joint_law(name, field="joints.law"):
 class JointProps:
     """Zero-thickness joint: stiffnesses kn, ks (Pa/m), tensile strength ft
     and cohesion c (Pa), friction angle phi (deg), fracture energies GI, GII
-    (N/m).  A law reads only the fields its table entry names."""
+    (N/m), and residual = tan(phi_r) / tan(phi), the residual friction
+    that a damaged joint's friction falls to (kernels.joints._coulomb_return;
+    1: phi throughout).  A law reads only the fields its table entry names."""
     kn: float
     ks: float
     ft: float = 0.0
@@ -177,9 +190,10 @@ class JointProps:
     phi: float = 0.0
     GI: float = 0.0
     GII: float = 0.0
+    residual: float = 1.0
 
     def validate(self, where, law="coupled_softening"):
-        for name in joint_law(law).fields:
+        for name in joint_law(law).fields + ("residual",):
             FIELD_RULES[name](self, f"{where}.{name}")
 
     def row(self):
@@ -187,6 +201,7 @@ class JointProps:
         r[K.JP_KN], r[K.JP_KS] = self.kn, self.ks
         r[K.JP_FT], r[K.JP_C] = self.ft, self.c
         r[K.JP_TANPHI] = math.tan(math.radians(self.phi))
+        r[K.JP_TANPHI_R] = self.residual * r[K.JP_TANPHI]
         r[K.JP_WU] = 2.0 * self.GI / self.ft if self.ft > 0 else 0.0
         r[K.JP_SU] = 2.0 * self.GII / self.c if self.c > 0 else 0.0
         return r

@@ -141,7 +141,7 @@ class JointFields:
     arrays): ft, c = c_ratio ft (Pa), phi (deg), G_I and G_II = GII_ratio
     G_I (N/m); the rules' ratios (GII_ratio also serves the units' crack
     interfaces) and the stiffness rules the wall shares (``joint_kn``):
-    Em_ratio, ks_ratio."""
+    Em_ratio, ks_ratio; residual_friction_ratio, tan(phi_r) / tan(phi)."""
     ft: np.ndarray
     c: np.ndarray
     phi: np.ndarray
@@ -151,6 +151,7 @@ class JointFields:
     Em_ratio: float
     ks_ratio: float
     GII_ratio: float
+    residual_friction_ratio: float = 1.0
 
 
 def unit_fields(E, ft, nu, c_ratio, phi, Gf, density, crack_kn_ratio, gf_rule=None):
@@ -167,14 +168,15 @@ def unit_fields(E, ft, nu, c_ratio, phi, Gf, density, crack_kn_ratio, gf_rule=No
                       density=float(density), crack_kn_ratio=float(crack_kn_ratio))
 
 
-def joint_fields(ft, phi, c_ratio, GI, GII_ratio, Em_ratio, ks_ratio, gi_per_ft=None):
+def joint_fields(ft, phi, c_ratio, GI, GII_ratio, Em_ratio, ks_ratio, gi_per_ft=None, residual_friction_ratio=1.0):
     """The joints' fields from their ft and phi (one value per joint) by
     the rules c_j = c_ratio f_tj, G_II = GII_ratio G_I and, with
     ``gi_per_ft``, G_I = gi_per_ft f_tj; without it G_I = ``GI``."""
     ft = _frozen(ft)
     gi = _frozen(gi_per_ft * ft if gi_per_ft is not None else np.full(ft.size, float(GI)))
     return JointFields(ft=ft, c=_frozen(c_ratio * ft), phi=_frozen(phi), GI=gi, GII=_frozen(GII_ratio * gi),
-                       c_ratio=float(c_ratio), Em_ratio=float(Em_ratio), ks_ratio=float(ks_ratio), GII_ratio=float(GII_ratio))
+                       c_ratio=float(c_ratio), Em_ratio=float(Em_ratio), ks_ratio=float(ks_ratio), GII_ratio=float(GII_ratio),
+                       residual_friction_ratio=float(residual_friction_ratio))
 
 
 def unit_fracture_energy(f_tu, coefficient=GF_COEFFICIENT, exponent=GF_EXPONENT):

@@ -84,7 +84,7 @@ def orient(nodes, tets):
     """Reorders each tetrahedron so that its signed volume is positive."""
     tets = np.array(tets, np.int64, copy=True)
     e = nodes[tets[:, 1:]] - nodes[tets[:, :1]]
-    neg = np.linalg.det(e) < 0.0
+    neg = det3(e) < 0.0
     tets[neg, 1], tets[neg, 2] = tets[neg, 2], tets[neg, 1].copy()
     return tets
 
@@ -97,7 +97,7 @@ def tet_geometry(nodes, tets):
     dn[t] = (grad N_1, grad N_2, grad N_3) flattened (9 values).
     Refuses degenerate tetrahedra (V <= 1e-12 of the mean cell volume)."""
     e = nodes[tets[:, 1:]] - nodes[tets[:, :1]]
-    det = np.linalg.det(e)
+    det = det3(e)
     vol = det / 6.0
     scale = np.abs(vol).mean() if vol.size else 1.0
     bad = np.flatnonzero(vol <= 1e-12 * scale)
@@ -105,6 +105,25 @@ def tet_geometry(nodes, tets):
         raise InputError("mesh.tets", f"{bad.size} degenerate tetrahedra (zero or "
                          f"negative volume), first: {bad[0]} with nodes "
                          f"{tets[bad[0]].tolist()}")
-    inv = np.linalg.inv(e)                                     # (nt, 3, 3)
-    dn = np.transpose(inv, (0, 2, 1)).reshape(-1, 9)           # columns
+    # the columns of E^-1 are the rows of cof(E) / det(E)
+    dn = cofactors(e).reshape(-1, 9) / det[:, None]
     return np.ascontiguousarray(dn), vol
+
+
+def cofactors(e):
+    """The cofactor matrices of the 3x3 matrices e (..., 3, 3), in closed
+    form: the same bits on every CPU (LAPACK's det and inv pick their
+    kernels by CPU: docs/known-problems.md)."""
+    c = np.empty_like(e)
+    for i in range(3):
+        i1, i2 = (i + 1) % 3, (i + 2) % 3
+        for j in range(3):
+            j1, j2 = (j + 1) % 3, (j + 2) % 3
+            c[..., i, j] = e[..., i1, j1] * e[..., i2, j2] - e[..., i1, j2] * e[..., i2, j1]
+    return c
+
+
+def det3(e):
+    """The determinants of the 3x3 matrices e (..., 3, 3), in closed form."""
+    c = cofactors(e)
+    return e[..., 0, 0] * c[..., 0, 0] + e[..., 0, 1] * c[..., 0, 1] + e[..., 0, 2] * c[..., 0, 2]

@@ -127,14 +127,20 @@ class Model:
         self.strip_refine = refine_axes(strip_refine, "strips.refine")
 
     # --- boundary conditions ---------------------------------------------
-    def add_strip(self, name, axis, coord, normal, rect, kn, velocity=(0.0, 0.0, 0.0)):
+    def add_strip(self, name, axis, coord, normal, rect, kn, velocity=(0.0, 0.0, 0.0), turns=False, force=None,
+                  friction=0.0):
         """A rigid bearing strip on the plane x[axis] = coord, covering
         ``rect`` = ((plo, phi), (qlo, qhi)) in the plane's coordinates
         (p, q) = (axis+1, axis+2) mod 3, bearing on the block faces whose
-        outward normal is ``normal`` * e_axis.  Moves with ``velocity``.
-        Its node follows the block nodes (``Assembly.strip_nodes``)."""
+        outward normal is ``normal`` * e_axis.  Moves with ``velocity``;
+        ``turns``: about its rectangle's long side (a roller); ``force``:
+        held by it along its normal (a platen); ``friction``: its Coulomb
+        coefficient.  Nodes: ``Assembly.strip_nodes``, ``turn_nodes``."""
+        turn_index = sum(s.turn >= 0 for s in self.strips) if turns else -1
         strip = bearing_strip(self.strip_subcontacts, self.blocks, len(self.strips), name, axis, coord, normal, rect,
-                              kn, velocity, self.strip_refine)
+                              kn, velocity, self.strip_refine, turn_index, friction)
+        if force is not None:
+            strip.free, strip.force = (axis,), check_3(f"strips.{name}.force", force)
         self.strips.append(strip)
         return strip
 

@@ -4,6 +4,8 @@ overrides of each simulation job, from the workflow's config
 the workflow's (workflow/rules/common.smk); this module names the runs and
 says what each one overrides."""
 
+ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
+
 
 def effective(*lists):
     """Scene overrides in order, without those a later one replaces (same

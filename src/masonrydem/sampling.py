@@ -29,6 +29,8 @@ import numpy as np
 from scipy import stats
 from scipy.stats import qmc
 
+ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
+
 
 @dataclass(frozen=True)
 class Variable:

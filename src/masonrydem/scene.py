@@ -52,6 +52,7 @@ class Materials:
 class Precompression:
     pressure: float       # sigma_v (Pa)
     spreader: bool
+    platen: bool
     ratio_tol: float
     max_steps: int
 
@@ -73,6 +74,8 @@ class Bending:
     section_height: float
     strip_width: float
     strip_stiffness_ratio: float
+    strips_turn: bool
+    strip_friction: float
 
     @property
     def shear_span(self):
@@ -198,7 +201,8 @@ def _loading(lo):
     return Loading(test=test, precompression=Precompression(**lo["precompression"]), drive=Drive(**drive),
                    bending=Bending(supports_x=tuple(b["supports_x"]), loads_x=tuple(b["loads_x"]),
                                    section_height=b["section_height"], strip_width=b["strip_width"],
-                                   strip_stiffness_ratio=b["strip_stiffness_ratio"]))
+                                   strip_stiffness_ratio=b["strip_stiffness_ratio"], strips_turn=b["strips_turn"],
+                                   strip_friction=b["strip_friction"]))
 
 
 KINDS = ("head", "bed", "crack", "strips")
@@ -245,7 +249,8 @@ def _materials(m, g):
                         gf_rule=(rule["coefficient"], rule["exponent"]) if rule else None)
     joints = joint_fields(ft=_field(mj, per_j, "ft", n_joints, "joint"), phi=_field(mj, per_j, "phi", n_joints, "joint"),
                           c_ratio=mj["c_ratio"], GI=mj["GI"], GII_ratio=mj["GII_ratio"], Em_ratio=mj["Em_ratio"],
-                          ks_ratio=mj["ks_ratio"], gi_per_ft=mj.get("GI_per_ft"))
+                          ks_ratio=mj["ks_ratio"], gi_per_ft=mj.get("GI_per_ft"),
+                          residual_friction_ratio=mj["residual_friction_ratio"])
     return Materials(units=units, joints=joints)
 
 
@@ -310,9 +315,13 @@ def model_size(g, physics, numerics, loading):
     subs = (units * (simpson(b, r.head[1], c, r.head[2]) + (pieces - 1) * simpson(b, r.crack[1], c, r.crack[2])
                      + simpson(along, r.bed[0], b, r.bed[1]))
             + strips * simpson(g.courses * c, r.strips[2], 3, r.strips[0]))
+    # a platen: one node, and sub-contacts on the top course's faces
+    platen = bool(loading.precompression.platen and loading.precompression.pressure)
+    subs += platen * g.units_per_course * simpson(along, r.strips[0], b, r.strips[1])
     hexes = 0 if model.rigid else units * a * b * c
     zones = model.material is not Elastic or numerics.elastic_element == "zones"
-    size = dict(nodes=strips + units * (pieces if model.rigid else (a + pieces) * (b + 1) * (c + 1)),
+    turns = strips if bend.strips_turn and not model.rigid else 0     # a turning strip's second node
+    size = dict(nodes=strips + turns + platen + units * (pieces if model.rigid else (a + pieces) * (b + 1) * (c + 1)),
                 tetrahedra=10 * hexes if zones else 0, cells=0 if zones else hexes, sub_contacts=subs)
     size["bytes"] = sum(ITEM_BYTES[k] * n for k, n in size.items())
     return size

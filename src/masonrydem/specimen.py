@@ -129,7 +129,8 @@ def _joint_props(scene, units, block_unit, joint_of):
                               GII=mj.GII_ratio * mu.Gf[ua])
         j = joint_of(a, b)
         kn, ks = joint_stiffness(mu.E[ua], mu.E[ub], mj, t)
-        return JointProps(kn=kn, ks=ks, ft=mj.ft[j], c=mj.c[j], phi=mj.phi[j], GI=mj.GI[j], GII=mj.GII[j])
+        return JointProps(kn=kn, ks=ks, ft=mj.ft[j], c=mj.c[j], phi=mj.phi[j], GI=mj.GI[j], GII=mj.GII[j],
+                          residual=mj.residual_friction_ratio)
     return props
 
 
@@ -172,7 +173,8 @@ def _test(m, scene, units, block_unit):
 
 def _precompression(m, scene):
     """sigma_v on the top course, or with a spreader on the part of it that
-    bears on the course below (schema: loading.precompression.spreader)."""
+    bears on the course below (schema: loading.precompression.spreader), as
+    a pressure or through a platen (loading.precompression.platen)."""
     pre, g = scene.loading.precompression, scene.geometry
     if not pre.pressure:
         return
@@ -182,7 +184,14 @@ def _precompression(m, scene):
         below = g.course_span(nk - 2)
         lo, hi = max(lo, below[0]), min(hi, below[1])
     L, T, _ = g.modelled_unit
-    m.add_pressure(2, g.height, +1, ((lo, hi), (-1.0, T + 1.0)), pre.pressure * g.units_per_course * L / (hi - lo))
+    rect = ((lo, hi), (-1.0, T + 1.0))
+    if pre.platen:      # a rigid plate held down by the force, as stiff as the bending strips
+        kn = scene.loading.bending.strip_stiffness_ratio * joint_kn(
+            float(np.mean(scene.materials.units.E)), scene.materials.joints.Em_ratio, g.joint_thickness)
+        m.add_strip("platen", 2, g.height, +1, ((lo, hi), (0.0, T)), kn,
+                    force=(0.0, 0.0, -pre.pressure * g.units_per_course * L * T))
+        return
+    m.add_pressure(2, g.height, +1, rect, pre.pressure * g.units_per_course * L / (hi - lo))
 
 
 def _roller(m, rigid, point, dof):
@@ -234,9 +243,10 @@ def _bending(m, scene):
     ks = bend.strip_stiffness_ratio * joint_kn(float(np.mean(E_b)), scene.materials.joints.Em_ratio,
                                                g.joint_thickness)
     # strips on planes normal to y: plane coordinates (p, q) = (z, x)
-    supports = [m.add_strip(f"support{i}", 1, T, +1, ((0.0, Htot), (xs - w, xs + w)), ks)
+    how = dict(turns=bend.strips_turn, friction=bend.strip_friction)
+    supports = [m.add_strip(f"support{i}", 1, T, +1, ((0.0, Htot), (xs - w, xs + w)), ks, **how)
                 for i, xs in enumerate(bend.supports_x)]
-    loads = [m.add_strip(f"load{i}", 1, 0.0, -1, ((0.0, Htot), (xl - w, xl + w)), ks)
+    loads = [m.add_strip(f"load{i}", 1, 0.0, -1, ((0.0, Htot), (xl - w, xl + w)), ks, **how)
              for i, xl in enumerate(bend.loads_x)]
     m.add_monitor("load", loads, 1)
     m.add_monitor("support", supports, 1)

@@ -7,6 +7,8 @@ import pandas as pd
 from . import analysis as A
 from .plan import modelform_options
 
+ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
+
 
 def initial_stiffness(curve, lo=0.1, hi=0.4):
     """Slope (kN/mm) of a straight line fitted to the pre-peak points of the

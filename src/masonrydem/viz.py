@@ -26,7 +26,7 @@ def zones_grid(specimen, state=None):
     cell's volume-weighted mean; 0 in elastic cells) and 'unit'
     (1-based)."""
     a = specimen.assembly
-    nb = a.n - len(a.strips)
+    nb = int(np.count_nonzero(a.block_of_node >= 0))
     tets = a.zones.tets
     first = (np.arange(tets.shape[0]) % 10) < 5
     hexes = a.cells.nodes[:, [0, 1, 3, 2, 4, 5, 7, 6]]          # VTK's corner order

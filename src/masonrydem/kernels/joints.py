@@ -18,8 +18,10 @@ import math
 from numba import njit
 from numba.extending import overload
 
-from .layout import (JOINT_BEARING, JOINT_BRITTLE_COULOMB, JOINT_COUPLED, JOINT_ELASTIC, JOINT_FRICTION, JP_C,
-                     JP_FT, JP_KN, JP_KS, JP_SU, JP_TANPHI, JP_WU, JS_D, JS_SN, JS_SP, JS_T1, JS_T2, JS_WP)
+from .layout import (JOINT_BEARING, JOINT_BRITTLE_COULOMB, JOINT_COUPLED, JOINT_COUPLED_ADDITIVE,
+                     JOINT_COUPLED_EXPONENTIAL, JOINT_COUPLED_FRICTION_SLIP, JOINT_ELASTIC, JOINT_FRICTION, JP_C,
+                     JP_FT, JP_KN, JP_KS, JP_SU, JP_TANPHI, JP_TANPHI_R, JP_WU, JS_D, JS_SN, JS_SP, JS_T1, JS_T2,
+                     JS_WP)
 from .linalg import add_force, body_vec
 from .static import choose
 
@@ -35,16 +37,30 @@ def joint_elastic(p, st, dun, dus1, dus2):
 
 @njit(**_INLINE)
 def joint_bearing(p, st, dun, dus1, dus2):
-    """Rigid bearing strip: compression-only normal spring, frictionless
-    (a roller): sigma_n = min(0, sigma_n + k_n du_n), tau = 0."""
+    """Rigid bearing strip: compression-only normal spring,
+    sigma_n = min(0, sigma_n + k_n du_n), and Coulomb friction
+    tau += k_s du_s, |tau| <= -sigma_n tan(phi) (a roller: k_s = tan(phi) = 0,
+    and tau stays 0)."""
     sn = st[JS_SN] + p[JP_KN] * dun
-    return (sn if sn < 0.0 else 0.0, st[JS_T1], st[JS_T2], st[JS_WP], st[JS_SP], st[JS_D])
+    if sn > 0.0:
+        sn = 0.0
+    ks = p[JP_KS]
+    t1 = st[JS_T1] + ks * dus1
+    t2 = st[JS_T2] + ks * dus2
+    tmax = -sn * p[JP_TANPHI]
+    tt = math.sqrt(t1 * t1 + t2 * t2)
+    if tt > tmax:
+        r = tmax / tt
+        t1 *= r
+        t2 *= r
+    return sn, t1, t2, st[JS_WP], st[JS_SP], st[JS_D]
 
 
 @njit(**_INLINE)
 def _coulomb_return(p, st, dun, dus1, dus2):
     """Elastic trial, then tension cut-off and Coulomb slip with the current
-    (damaged) strengths f_t' = f_t (1-D), c' = c (1-D):
+    (damaged) strengths f_t' = f_t (1-D), c' = c (1-D) and friction
+    tan(phi') = tan(phi) + D (tan(phi_r) - tan(phi)) (the residual friction):
       sigma_n > f_t'  ->  sigma_n = f_t', w_p += excess opening;
       tau_max = max(0, c' - sigma_n tan(phi)); |tau| > tau_max -> scale tau
       back, s_p += excess slip.
@@ -64,7 +80,7 @@ def _coulomb_return(p, st, dun, dus1, dus2):
         wp += (sn - ft) / kn
         sn = ft
         yielded = True
-    tmax = c - sn * p[JP_TANPHI]
+    tmax = c - sn * (p[JP_TANPHI] + dmg * (p[JP_TANPHI_R] - p[JP_TANPHI]))
     if tmax < 0.0:
         tmax = 0.0
     tt = math.sqrt(t1 * t1 + t2 * t2)
@@ -78,31 +94,80 @@ def _coulomb_return(p, st, dun, dus1, dus2):
 
 
 @njit(**_INLINE)
-def joint_coupled(p, st, dun, dus1, dus2):
-    """Coupled fracture-energy softening (docs/formulation.md, 4.3):
-    d_t = w_p / w_u, w_u = 2 G_I / f_t;  d_s = s_p / s_u, s_u = 2 G_II / c;
-    D = 1 - (1 - d_t)(1 - d_s), never decreasing, at most 1.  Linear
-    softening of f_t and c with a shared damage; friction angle unchanged;
-    unloading elastic with the initial stiffness."""
+def _softened(p, st, dun, dus1, dus2, shape, coupling, slip):
+    """The coupled fracture-energy softening (docs/formulation.md, 4.3) and
+    its variants (the model-form study), after ``_coulomb_return``: the
+    relative openings x_t = w_p / w_u, w_u = 2 G_I / f_t, and slips
+    x_s = s_p / s_u, s_u = 2 G_II / c (``slip`` 1: s_u = 2 G_II / (c -
+    sigma_n tan(phi)), the peak's friction share in the slip scale);
+    ``shape`` 0 linear, d = min(x, 1), 1 exponential, d = 1 - exp(-2 x)
+    (the same fracture energy); ``coupling`` 0 D = 1 - (1 - d_t)(1 - d_s),
+    1 (Lourenco-Rots: one softening parameter for both strengths)
+    D = min(x_t + x_s, 1).  D never decreases."""
     sn, t1, t2, wp, sp, yielded = _coulomb_return(p, st, dun, dus1, dus2)
     d = st[JS_D]
     if yielded:
         wu = p[JP_WU]
         su = p[JP_SU]
-        dt_ = 1.0
+        if slip == 1 and sn < 0.0 and su > 0.0:
+            su = su * p[JP_C] / (p[JP_C] - sn * p[JP_TANPHI])
+        xt = 1.0
         if wu > 0.0:
-            dt_ = min(wp / wu, 1.0)
+            xt = min(wp / wu, 1.0)
         elif wp == 0.0:
-            dt_ = 0.0
-        ds_ = 1.0
+            xt = 0.0
+        xs = 1.0
         if su > 0.0:
-            ds_ = min(sp / su, 1.0)
+            xs = min(sp / su, 1.0)
         elif sp == 0.0:
-            ds_ = 0.0
-        dn = 1.0 - (1.0 - dt_) * (1.0 - ds_)
+            xs = 0.0
+        if shape == 1:
+            if wu > 0.0:
+                xt = wp / wu
+            if su > 0.0:
+                xs = sp / su
+            dn = 1.0 - math.exp(-2.0 * (xt + xs))
+        elif coupling == 1:
+            dn = min(xt + xs, 1.0)
+        else:
+            dn = 1.0 - (1.0 - xt) * (1.0 - xs)
         if dn > d:
             d = dn
     return sn, t1, t2, wp, sp, d
+
+
+@njit(**_INLINE)
+def joint_coupled(p, st, dun, dus1, dus2):
+    """Coupled fracture-energy softening (docs/formulation.md, 4.3):
+    d_t = w_p / w_u, w_u = 2 G_I / f_t;  d_s = s_p / s_u, s_u = 2 G_II / c;
+    D = 1 - (1 - d_t)(1 - d_s), never decreasing, at most 1.  Linear
+    softening of f_t and c with a shared damage; friction from tan(phi) to
+    tan(phi_r) with D (equal by default); unloading elastic with the
+    initial stiffness."""
+    return _softened(p, st, dun, dus1, dus2, 0, 0, 0)
+
+
+@njit(**_INLINE)
+def joint_coupled_exponential(p, st, dun, dus1, dus2):
+    """As ``joint_coupled`` with exponential softening, d = 1 - exp(-2 x):
+    f_t exp(-f_t w_p / G_I) dissipates G_I (either coupling: the product of
+    exponentials is the exponential of the sum)."""
+    return _softened(p, st, dun, dus1, dus2, 1, 0, 0)
+
+
+@njit(**_INLINE)
+def joint_coupled_additive(p, st, dun, dus1, dus2):
+    """As ``joint_coupled`` with Lourenco and Rots's coupling: f_t and c
+    soften together through one parameter, the sum of the relative opening
+    and slip, D = min(w_p / w_u + s_p / s_u, 1)."""
+    return _softened(p, st, dun, dus1, dus2, 0, 1, 0)
+
+
+@njit(**_INLINE)
+def joint_coupled_friction_slip(p, st, dun, dus1, dus2):
+    """As ``joint_coupled`` with the slip scale taken over the whole peak,
+    cohesion and friction: s_u = 2 G_II / (c - sigma_n tan(phi))."""
+    return _softened(p, st, dun, dus1, dus2, 0, 0, 1)
 
 
 @njit(**_INLINE)
@@ -146,7 +211,9 @@ def joint_friction(p, st, dun, dus1, dus2):
 
 
 _JOINT_LAWS = {JOINT_ELASTIC: joint_elastic, JOINT_BRITTLE_COULOMB: joint_brittle_coulomb, JOINT_COUPLED: joint_coupled,
-               JOINT_FRICTION: joint_friction, JOINT_BEARING: joint_bearing}
+               JOINT_FRICTION: joint_friction, JOINT_BEARING: joint_bearing,
+               JOINT_COUPLED_EXPONENTIAL: joint_coupled_exponential, JOINT_COUPLED_ADDITIVE: joint_coupled_additive,
+               JOINT_COUPLED_FRICTION_SLIP: joint_coupled_friction_slip}
 
 
 def joint_law(jlaw, p, st, dun, dus1, dus2):
@@ -168,7 +235,7 @@ def subcontact_law(jlaw, s, dt, rx, ry, rz, nx, ny, nz, ax, ay, az, bx, by, bz, 
     increments du = dt (v_B - v_A) in local axes.  Reads the sub-contact's
     row of parameters and state, writes its new state (no branch here: the
     law's branches are in a function of scalars)."""
-    p = (jp[s, 0], jp[s, 1], jp[s, 2], jp[s, 3], jp[s, 4], jp[s, 5], jp[s, 6])
+    p = (jp[s, 0], jp[s, 1], jp[s, 2], jp[s, 3], jp[s, 4], jp[s, 5], jp[s, 6], jp[s, 7])
     st = (js[s, 0], js[s, 1], js[s, 2], js[s, 3], js[s, 4], js[s, 5])
     sn, t1, t2, wp, sp, d = joint_law(jlaw, p, st, dt * (rx * nx + ry * ny + rz * nz),
                                       dt * (rx * ax + ry * ay + rz * az), dt * (rx * bx + ry * by + rz * bz))

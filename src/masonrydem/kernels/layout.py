@@ -25,6 +25,9 @@ JOINT_BRITTLE_COULOMB = 1
 JOINT_COUPLED = 2
 JOINT_BEARING = 3
 JOINT_FRICTION = 4
+JOINT_COUPLED_EXPONENTIAL = 5
+JOINT_COUPLED_ADDITIVE = 6
+JOINT_COUPLED_FRICTION_SLIP = 7
 
 # --- zone parameter / state columns (per tetrahedron) ------------------------
 ZP_K, ZP_G, ZP_FT, ZP_C, ZP_NPHI, ZP_GF = 0, 1, 2, 3, 4, 5
@@ -33,8 +36,8 @@ ZS_EPT, ZS_EULT, ZS_H = 0, 1, 2  # plastic tensile strain, its ultimate value, c
 N_ZS = 3
 
 # --- joint parameter / state columns (per sub-contact) ----------------------
-JP_KN, JP_KS, JP_FT, JP_C, JP_TANPHI, JP_WU, JP_SU = 0, 1, 2, 3, 4, 5, 6
-N_JP = 7
+JP_KN, JP_KS, JP_FT, JP_C, JP_TANPHI, JP_WU, JP_SU, JP_TANPHI_R = 0, 1, 2, 3, 4, 5, 6, 7
+N_JP = 8
 JS_SN, JS_T1, JS_T2, JS_WP, JS_SP, JS_D = 0, 1, 2, 3, 4, 5
 N_JS = 6
 
