@@ -108,7 +108,8 @@ def _common(model, x0):
     nb, nn = model.n_nodes, x0.shape[0]
     contacts, sc = [], SubContacts()
     if model.joint_law is not None:
-        contacts, sc = find_joints(model.blocks, model.joint_law, model.joint_props, model.joint_refine)
+        contacts, sc = find_joints(model.blocks, model.joint_law, model.joint_props, model.joint_refine,
+                                   model.joint_rule)
     joints, joint_points = sc.pack()
     bearings, bearing_points = model.strip_subcontacts.pack()
     strip_side = bearings.nodes[:, 4]

@@ -133,7 +133,24 @@ def simpson(breaks, refine=1):
     return pts, w
 
 
-def face_quadrature(rect, lines, refine=(1, 1)):
+def trapezoid(breaks, refine=1):
+    """Nodal rule on the intervals of ``breaks``, each split into
+    ``refine`` equal parts: points at the interval ends, each weighted by
+    half its two intervals (3DEC's sub-contacts at the face vertices with
+    their tributary areas; its error: ``simpson``)."""
+    edges = np.concatenate([np.linspace(a, b, refine + 1)[:-1] for a, b in zip(breaks[:-1], breaks[1:])]
+                           + [breaks[-1:]])
+    h = np.diff(edges)
+    w = np.zeros(edges.size)
+    w[:-1] += 0.5 * h
+    w[1:] += 0.5 * h
+    return edges, w
+
+
+RULES = {"simpson": simpson, "vertices": trapezoid}
+
+
+def face_quadrature(rect, lines, refine=(1, 1), rule="simpson"):
     """Points (P, Q) and weights (areas) of the tensor-product composite
     Simpson rule on the rectangle ``rect`` = ((plo, phi), (qlo, qhi)) cut
     by the grid lines of every face involved (a joint: both faces; a strip
@@ -142,8 +159,9 @@ def face_quadrature(rect, lines, refine=(1, 1)):
     split that many times along p and q.
     The weights sum to the rectangle's area, and their first moments to
     its centroid times its area, whatever the grids: a strip's resultant
-    acts on its configured line."""
-    (pp, wp), (pq, wq) = (simpson(breakpoints(lo, hi, *ls), r) for (lo, hi), ls, r in zip(rect, lines, refine))
+    acts on its configured line.  ``rule`` 'vertices': the nodal rule
+    (``trapezoid``) instead."""
+    (pp, wp), (pq, wq) = (RULES[rule](breakpoints(lo, hi, *ls), r) for (lo, hi), ls, r in zip(rect, lines, refine))
     P, Q = np.meshgrid(pp, pq, indexing="ij")
     return P.ravel(), Q.ravel(), np.outer(wp, wq).ravel()
 

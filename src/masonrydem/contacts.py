@@ -111,14 +111,16 @@ def with_gather(sc, n_nodes):
     return sc._replace(gptr=np.cumsum(gptr), gs=s_idx[order].astype(np.int64), gw=w[order])
 
 
-def find_joints(blocks, law, props, refine):
+def find_joints(blocks, law, props, refine, rule="simpson"):
     """The joints between touching box faces: (contacts, sub-contacts).
     The sub-contacts are the points of a rule exact for the bilinear
     fields of both faces (blocks.face_quadrature on the union of their
     grids), each interpolated on both faces.  ``props``: a JointProps, or a
     function (block_a, block_b) -> JointProps; ``refine``: per global axis
     (x, y, z), each interval of the rule split that many times along it (or
-    a function (block_a, block_b) -> that refinement)."""
+    a function (block_a, block_b) -> that refinement).  ``rule``
+    'vertices': 3DEC's scheme, sub-contacts at the vertices of both faces'
+    grids with their tributary areas (blocks.trapezoid)."""
     boxes = [b for b in blocks if b.is_box]
     contacts, sc = [], SubContacts()
     for i, b1 in enumerate(boxes):
@@ -132,11 +134,11 @@ def find_joints(blocks, law, props, refine):
                             (max(lower.lo[q], upper.lo[q]), min(lower.hi[q], upper.hi[q])))
                     if min(rect[0][1] - rect[0][0], rect[1][1] - rect[1][0]) <= GEOM_TOL:
                         continue
-                    contacts.append(_joint(len(contacts), sc, lower, upper, axis, rect, law, props, refine))
+                    contacts.append(_joint(len(contacts), sc, lower, upper, axis, rect, law, props, refine, rule))
     return contacts, sc
 
 
-def _joint(cid, sc, lower, upper, axis, rect, law, props, refine):
+def _joint(cid, sc, lower, upper, axis, rect, law, props, refine, rule):
     # sub-contacts on the finer face (more gridpoints in the overlap)
     if upper.nodes_in_rect(axis, rect) > lower.nodes_in_rect(axis, rect):
         a, b, side_a, side_b, sign = upper, lower, 0, 1, -1.0
@@ -150,7 +152,7 @@ def _joint(cid, sc, lower, upper, axis, rect, law, props, refine):
     row = props.row()
     axes = local_axes(axis, sign)
     start = len(sc)
-    P, Q, A = face_quadrature(rect, zip(a.face_grid(axis), b.face_grid(axis)), face_refine(refine, axis))
+    P, Q, A = face_quadrature(rect, zip(a.face_grid(axis), b.face_grid(axis)), face_refine(refine, axis), rule)
     na, wa, ca = a.interpolate_points(axis, side_a, P, Q)
     nb, wb, cb = b.interpolate_points(axis, side_b, P, Q)
     for i, (pp, qq, ar) in enumerate(zip(P, Q, A)):

@@ -145,6 +145,7 @@ JOINT_LAWS = {law.name: law for law in (
     JointLaw("coupled_exponential", K.JOINT_COUPLED_EXPONENTIAL, ("kn", "ks", "ft", "c", "phi", "GI", "GII")),
     JointLaw("coupled_lourenco_rots", K.JOINT_COUPLED_ADDITIVE, ("kn", "ks", "ft", "c", "phi", "GI", "GII")),
     JointLaw("coupled_friction_slip", K.JOINT_COUPLED_FRICTION_SLIP, ("kn", "ks", "ft", "c", "phi", "GI", "GII")),
+    JointLaw("coupled_total_slip", K.JOINT_COUPLED_TOTAL_SLIP, ("kn", "ks", "ft", "c", "phi", "GI", "GII")),
 )}
 
 # a field's rule: (props, field name) -> None or InputError; a joint with
@@ -158,6 +159,7 @@ FIELD_RULES = {
     "GI": lambda p, f: p.ft > 0 and _positive(f, p.GI),
     "GII": lambda p, f: p.c > 0 and _positive(f, p.GII),
     "residual": lambda p, f: _fraction(f, p.residual),
+    "psi": lambda p, f: _angle(f, p.psi),
 }
 
 
@@ -182,7 +184,8 @@ class JointProps:
     and cohesion c (Pa), friction angle phi (deg), fracture energies GI, GII
     (N/m), and residual = tan(phi_r) / tan(phi), the residual friction
     that a damaged joint's friction falls to (kernels.joints._coulomb_return;
-    1: phi throughout).  A law reads only the fields its table entry names."""
+    1: phi throughout), and the dilation angle psi (deg).  A law reads
+    only the fields its table entry names."""
     kn: float
     ks: float
     ft: float = 0.0
@@ -191,9 +194,10 @@ class JointProps:
     GI: float = 0.0
     GII: float = 0.0
     residual: float = 1.0
+    psi: float = 0.0
 
     def validate(self, where, law="coupled_softening"):
-        for name in joint_law(law).fields + ("residual",):
+        for name in joint_law(law).fields + ("residual", "psi"):
             FIELD_RULES[name](self, f"{where}.{name}")
 
     def row(self):
@@ -202,6 +206,7 @@ class JointProps:
         r[K.JP_FT], r[K.JP_C] = self.ft, self.c
         r[K.JP_TANPHI] = math.tan(math.radians(self.phi))
         r[K.JP_TANPHI_R] = self.residual * r[K.JP_TANPHI]
+        r[K.JP_TANPSI] = math.tan(math.radians(self.psi))
         r[K.JP_WU] = 2.0 * self.GI / self.ft if self.ft > 0 else 0.0
         r[K.JP_SU] = 2.0 * self.GII / self.c if self.c > 0 else 0.0
         return r

@@ -124,7 +124,7 @@ def _frozen(values):
 class UnitFields:
     """The units' properties, one value per unit (read-only arrays):
     E (Pa), ft (Pa), c = c_ratio ft (Pa), Gf (N/m); and those the wall
-    shares: nu, phi (deg), density (kg/m^3), crack_kn_ratio."""
+    shares: nu, phi and psi (deg), density (kg/m^3), crack_kn_ratio."""
     E: np.ndarray
     ft: np.ndarray
     c: np.ndarray
@@ -133,6 +133,7 @@ class UnitFields:
     phi: float
     density: float
     crack_kn_ratio: float
+    psi: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -154,7 +155,7 @@ class JointFields:
     residual_friction_ratio: float = 1.0
 
 
-def unit_fields(E, ft, nu, c_ratio, phi, Gf, density, crack_kn_ratio, gf_rule=None):
+def unit_fields(E, ft, nu, c_ratio, phi, Gf, density, crack_kn_ratio, gf_rule=None, psi=0.0):
     """The units' fields from their E and ft (one value per unit) by the
     rules c_u = c_ratio f_tu and, with ``gf_rule`` = (coefficient,
     exponent), G_fu = coefficient f_tu^exponent (``unit_fracture_energy``);
@@ -165,7 +166,7 @@ def unit_fields(E, ft, nu, c_ratio, phi, Gf, density, crack_kn_ratio, gf_rule=No
     else:   # unit by unit: a scalar power, as every unit has always had it
         gf = [float(unit_fracture_energy(f, *gf_rule)) for f in ft]
     return UnitFields(E=_frozen(E), ft=ft, c=_frozen(c_ratio * ft), Gf=_frozen(gf), nu=float(nu), phi=float(phi),
-                      density=float(density), crack_kn_ratio=float(crack_kn_ratio))
+                      density=float(density), crack_kn_ratio=float(crack_kn_ratio), psi=float(psi))
 
 
 def joint_fields(ft, phi, c_ratio, GI, GII_ratio, Em_ratio, ks_ratio, gi_per_ft=None, residual_friction_ratio=1.0):

@@ -16,7 +16,7 @@ axes then turn with the block that carries them.
 import numpy as np
 
 from .assembly import assemble
-from .blocks import Block, check_3, face_point, face_quadrature, refine_axes
+from .blocks import RULES, Block, check_3, face_point, face_quadrature, refine_axes
 from .contacts import SubContacts, bearing_strip, faces_on_plane
 from .elements import ELEMENTS
 from .errors import InputError
@@ -41,8 +41,7 @@ class Model:
         self.blocks = []
         self.n_nodes = 0
         self._x0 = []
-        self.joint_law = None
-        self.joint_props = None
+        self.joint_law, self.joint_props, self.joint_rule = None, None, "simpson"
         self.joint_refine = (1, 1, 1)
         self.strip_refine = (1, 1, 1)
         self.strips = []
@@ -109,20 +108,21 @@ class Model:
         return np.flatnonzero(predicate(self.x0))
 
     # --- joints ---------------------------------------------------------
-    def set_joints(self, law, props, refine=1, strip_refine=None):
+    def set_joints(self, law, props, refine=1, strip_refine=None, rule="simpson"):
         """Joint law (by name, laws.JOINT_LAWS) and properties: a JointProps
         for all joints, or a function (block_a, block_b) -> JointProps.
         ``refine``: each interval of the union of both faces' cell grids is
         split that many times (one integer, or one per global axis x, y, z),
-        and the sub-contacts sit at the points of the composite Simpson rule
-        on it (blocks.face_quadrature); or a function (block_a, block_b) ->
-        such a refinement.  Strips added afterwards take ``strip_refine``
-        (default: ``refine`` unless it is a function, else 1)."""
+        and the sub-contacts sit at the points of ``rule`` on it (composite
+        Simpson, or 'vertices': blocks.face_quadrature); or a function
+        (block_a, block_b) -> such a refinement.  Strips added afterwards
+        take ``strip_refine`` (default: ``refine``, or 1 for a function)."""
         joint_law(law)
         if strip_refine is None:
             strip_refine = 1 if callable(refine) else refine
-        self.joint_law = law
-        self.joint_props = props
+        if rule not in RULES:
+            raise InputError("joints.rule", f"must be one of {', '.join(RULES)}, got {rule!r}")
+        self.joint_law, self.joint_rule, self.joint_props = law, rule, props
         self.joint_refine = refine if callable(refine) else refine_axes(refine, "joints.refine")
         self.strip_refine = refine_axes(strip_refine, "strips.refine")
 

@@ -106,6 +106,7 @@ class Numerics:
     cells: tuple
     refine: Refine
     refine_label: str     # as the rows record it: '2', '1x2x1' or 'head:1x2x1'
+    rule: str             # the joints' sub-contact rule: simpson, or vertices (3DEC's)
     safety: float
     damping: float
     record_every: int
@@ -168,6 +169,9 @@ def validate_scene(scene):
     if phys.blocks == "rigid" and scene["outputs"]["state"]:
         raise InputError("outputs.state", "the final state (VTK: zones and their damage) exists for deformable "
                          "blocks only, not for rigid ones")
+    if scene["materials"]["units"]["psi"] and not phys.model.crack_interface:
+        raise InputError("materials.units.psi", f"dilation is modelled on the crack interfaces of potential-crack "
+                         f"units only; {phys.blocks} units have none")
     _check_size(g, phys, num, loading)   # before anything that takes time in proportion to the model's size
     if phys.model.material is MohrCoulomb and (reason := g.crack_band_error(num.cells[0])):
         raise InputError("numerics.cells.0", reason)
@@ -213,7 +217,7 @@ def _numerics(n):
     per_kind = {k: raw.get(k, 1) for k in KINDS} if isinstance(raw, dict) else dict.fromkeys(KINDS, raw)
     refine = Refine(**{k: refine_axes(v) for k, v in per_kind.items()})
     return Numerics(elastic_element=n["elastic_element"], cells=tuple(n["cells"]), refine=refine,
-                    refine_label=refine_label(raw), safety=n["safety"], damping=n["damping"],
+                    refine_label=refine_label(raw), rule=n["subcontact_rule"], safety=n["safety"], damping=n["damping"],
                     record_every=n["record_every"])
 
 
@@ -244,7 +248,8 @@ def _materials(m, g):
     n_units, n_joints = g.n_units, len(g.joints)
     rule = mu.get("Gf_rule")
     units = unit_fields(E=_field(mu, per_u, "E", n_units, "unit"), ft=_field(mu, per_u, "ft", n_units, "unit"),
-                        nu=mu["nu"], c_ratio=mu["c_ratio"], phi=mu["phi"], Gf=mu["Gf"], density=mu["density"],
+                        nu=mu["nu"], c_ratio=mu["c_ratio"], phi=mu["phi"], psi=mu["psi"], Gf=mu["Gf"],
+                        density=mu["density"],
                         crack_kn_ratio=mu["crack_kn_ratio"],
                         gf_rule=(rule["coefficient"], rule["exponent"]) if rule else None)
     joints = joint_fields(ft=_field(mj, per_j, "ft", n_joints, "joint"), phi=_field(mj, per_j, "phi", n_joints, "joint"),

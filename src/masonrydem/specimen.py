@@ -56,7 +56,7 @@ def build(scene):
     props = _joint_props(scene, units, block_unit, joint_of)
     refine = scene.numerics.refine
     m.set_joints(scene.physics.joints, props, refine=lambda a, b: getattr(refine, joints[joint_of(a, b)][0]),
-                 strip_refine=refine.strips)
+                 strip_refine=refine.strips, rule=scene.numerics.rule)
     drive, velocity = _test(m, scene, units, block_unit)
     _precompression(m, scene)
     if scene.physics.gravity:
@@ -126,7 +126,7 @@ def _joint_props(scene, units, block_unit, joint_of):
         if ua == ub:
             kn, ks = crack_stiffness(mu.E[ua], L, mu, mj)
             return JointProps(kn=kn, ks=ks, ft=mu.ft[ua], c=mu.c[ua], phi=mu.phi, GI=mu.Gf[ua],
-                              GII=mj.GII_ratio * mu.Gf[ua])
+                              GII=mj.GII_ratio * mu.Gf[ua], psi=mu.psi)
         j = joint_of(a, b)
         kn, ks = joint_stiffness(mu.E[ua], mu.E[ub], mj, t)
         return JointProps(kn=kn, ks=ks, ft=mj.ft[j], c=mj.c[j], phi=mj.phi[j], GI=mj.GI[j], GII=mj.GII[j],

@@ -19,9 +19,9 @@ from numba import njit
 from numba.extending import overload
 
 from .layout import (JOINT_BEARING, JOINT_BRITTLE_COULOMB, JOINT_COUPLED, JOINT_COUPLED_ADDITIVE,
-                     JOINT_COUPLED_EXPONENTIAL, JOINT_COUPLED_FRICTION_SLIP, JOINT_ELASTIC, JOINT_FRICTION, JP_C,
-                     JP_FT, JP_KN, JP_KS, JP_SU, JP_TANPHI, JP_TANPHI_R, JP_WU, JS_D, JS_SN, JS_SP, JS_T1, JS_T2,
-                     JS_WP)
+                     JOINT_COUPLED_EXPONENTIAL, JOINT_COUPLED_FRICTION_SLIP, JOINT_COUPLED_TOTAL_SLIP, JOINT_ELASTIC,
+                     JOINT_FRICTION, JP_C, JP_FT, JP_KN, JP_KS, JP_SU, JP_TANPHI, JP_TANPHI_R, JP_TANPSI, JP_WU, JS_D,
+                     JS_SN, JS_SP, JS_T1, JS_T2, JS_WP)
 from .linalg import add_force, body_vec
 from .static import choose
 
@@ -60,7 +60,9 @@ def joint_bearing(p, st, dun, dus1, dus2):
 def _coulomb_return(p, st, dun, dus1, dus2):
     """Elastic trial, then tension cut-off and Coulomb slip with the current
     (damaged) strengths f_t' = f_t (1-D), c' = c (1-D) and friction
-    tan(phi') = tan(phi) + D (tan(phi_r) - tan(phi)) (the residual friction):
+    tan(phi') = tan(phi) + D (tan(phi_r) - tan(phi)) (the residual friction),
+    and dilation psi (a slip ds_p under compression presses the faces
+    together: sigma_n -= k_n tan(psi) ds_p; 0 by default):
       sigma_n > f_t'  ->  sigma_n = f_t', w_p += excess opening;
       tau_max = max(0, c' - sigma_n tan(phi)); |tau| > tau_max -> scale tau
       back, s_p += excess slip.
@@ -85,11 +87,14 @@ def _coulomb_return(p, st, dun, dus1, dus2):
         tmax = 0.0
     tt = math.sqrt(t1 * t1 + t2 * t2)
     if tt > tmax:
-        sp += (tt - tmax) / ks
+        dsp = (tt - tmax) / ks
+        sp += dsp
         r = tmax / tt
         t1 *= r
         t2 *= r
         yielded = True
+        if sn < 0.0:
+            sn -= kn * p[JP_TANPSI] * dsp
     return sn, t1, t2, wp, sp, yielded
 
 
@@ -99,7 +104,8 @@ def _softened(p, st, dun, dus1, dus2, shape, coupling, slip):
     its variants (the model-form study), after ``_coulomb_return``: the
     relative openings x_t = w_p / w_u, w_u = 2 G_I / f_t, and slips
     x_s = s_p / s_u, s_u = 2 G_II / c (``slip`` 1: s_u = 2 G_II / (c -
-    sigma_n tan(phi)), the peak's friction share in the slip scale);
+    sigma_n tan(phi)), the peak's friction share in the slip scale; 2: the
+    total slip s_p + |tau| / k_s, its elastic part too);
     ``shape`` 0 linear, d = min(x, 1), 1 exponential, d = 1 - exp(-2 x)
     (the same fracture energy); ``coupling`` 0 D = 1 - (1 - d_t)(1 - d_s),
     1 (Lourenco-Rots: one softening parameter for both strengths)
@@ -116,16 +122,20 @@ def _softened(p, st, dun, dus1, dus2, shape, coupling, slip):
             xt = min(wp / wu, 1.0)
         elif wp == 0.0:
             xt = 0.0
+        if slip == 2:
+            sp_ = sp + math.sqrt(t1 * t1 + t2 * t2) / p[JP_KS]
+        else:
+            sp_ = sp
         xs = 1.0
         if su > 0.0:
-            xs = min(sp / su, 1.0)
-        elif sp == 0.0:
+            xs = min(sp_ / su, 1.0)
+        elif sp_ == 0.0:
             xs = 0.0
         if shape == 1:
             if wu > 0.0:
                 xt = wp / wu
             if su > 0.0:
-                xs = sp / su
+                xs = sp_ / su
             dn = 1.0 - math.exp(-2.0 * (xt + xs))
         elif coupling == 1:
             dn = min(xt + xs, 1.0)
@@ -210,10 +220,18 @@ def joint_friction(p, st, dun, dus1, dus2):
     return sn, t1, t2, wp, sp, st[JS_D]
 
 
+@njit(**_INLINE)
+def joint_coupled_total_slip(p, st, dun, dus1, dus2):
+    """As ``joint_coupled`` with shear softening over the total slip,
+    elastic and plastic: d_s = (s_p + |tau| / k_s) / s_u."""
+    return _softened(p, st, dun, dus1, dus2, 0, 0, 2)
+
+
 _JOINT_LAWS = {JOINT_ELASTIC: joint_elastic, JOINT_BRITTLE_COULOMB: joint_brittle_coulomb, JOINT_COUPLED: joint_coupled,
                JOINT_FRICTION: joint_friction, JOINT_BEARING: joint_bearing,
                JOINT_COUPLED_EXPONENTIAL: joint_coupled_exponential, JOINT_COUPLED_ADDITIVE: joint_coupled_additive,
-               JOINT_COUPLED_FRICTION_SLIP: joint_coupled_friction_slip}
+               JOINT_COUPLED_FRICTION_SLIP: joint_coupled_friction_slip,
+               JOINT_COUPLED_TOTAL_SLIP: joint_coupled_total_slip}
 
 
 def joint_law(jlaw, p, st, dun, dus1, dus2):
@@ -235,7 +253,7 @@ def subcontact_law(jlaw, s, dt, rx, ry, rz, nx, ny, nz, ax, ay, az, bx, by, bz, 
     increments du = dt (v_B - v_A) in local axes.  Reads the sub-contact's
     row of parameters and state, writes its new state (no branch here: the
     law's branches are in a function of scalars)."""
-    p = (jp[s, 0], jp[s, 1], jp[s, 2], jp[s, 3], jp[s, 4], jp[s, 5], jp[s, 6], jp[s, 7])
+    p = (jp[s, 0], jp[s, 1], jp[s, 2], jp[s, 3], jp[s, 4], jp[s, 5], jp[s, 6], jp[s, 7], jp[s, 8])
     st = (js[s, 0], js[s, 1], js[s, 2], js[s, 3], js[s, 4], js[s, 5])
     sn, t1, t2, wp, sp, d = joint_law(jlaw, p, st, dt * (rx * nx + ry * ny + rz * nz),
                                       dt * (rx * ax + ry * ay + rz * az), dt * (rx * bx + ry * by + rz * bz))

@@ -28,6 +28,7 @@ JOINT_FRICTION = 4
 JOINT_COUPLED_EXPONENTIAL = 5
 JOINT_COUPLED_ADDITIVE = 6
 JOINT_COUPLED_FRICTION_SLIP = 7
+JOINT_COUPLED_TOTAL_SLIP = 8
 
 # --- zone parameter / state columns (per tetrahedron) ------------------------
 ZP_K, ZP_G, ZP_FT, ZP_C, ZP_NPHI, ZP_GF = 0, 1, 2, 3, 4, 5
@@ -36,8 +37,8 @@ ZS_EPT, ZS_EULT, ZS_H = 0, 1, 2  # plastic tensile strain, its ultimate value, c
 N_ZS = 3
 
 # --- joint parameter / state columns (per sub-contact) ----------------------
-JP_KN, JP_KS, JP_FT, JP_C, JP_TANPHI, JP_WU, JP_SU, JP_TANPHI_R = 0, 1, 2, 3, 4, 5, 6, 7
-N_JP = 8
+JP_KN, JP_KS, JP_FT, JP_C, JP_TANPHI, JP_WU, JP_SU, JP_TANPHI_R, JP_TANPSI = 0, 1, 2, 3, 4, 5, 6, 7, 8
+N_JP = 9
 JS_SN, JS_T1, JS_T2, JS_WP, JS_SP, JS_D = 0, 1, 2, 3, 4, 5
 N_JS = 6
 
