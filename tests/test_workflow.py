@@ -401,7 +401,10 @@ def test_an_interrupted_run_resumes_with_what_is_missing(tmp_path):
     # Ctrl-C in a terminal interrupts the whole foreground process group:
     # Snakemake and the simulations it runs
     log = tmp_path / "interrupted.log"    # a file, not a pipe: Snakemake would block on a full pipe
-    p = subprocess.Popen(cmd, stdout=open(log, "w"), stderr=subprocess.STDOUT, start_new_session=True)
+    # (with Ctrl-C's default action: a shell that runs the suite in the
+    # background, `make test &`, has its children ignore SIGINT)
+    p = subprocess.Popen(cmd, stdout=open(log, "w"), stderr=subprocess.STDOUT, start_new_session=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.time() + 600
     while finished() < 6 and time.time() < deadline:
         time.sleep(0.2)
