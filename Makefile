@@ -19,7 +19,7 @@ $(STAMP): pyproject.toml | $(BIN)/python
 # results/), its report, then run by run against the committed tables
 # (tools/compare_results.py; exit status 1 when a run differs).  Snakemake
 # resumes an interrupted reproduction; rm -rf reproduction to start afresh.
-# ACCURACY=1 reruns the accuracy study too (about 2 more hours); otherwise
+# ACCURACY=1 reruns the accuracy study too (about 2 to 3.5 more hours); otherwise
 # its committed summaries are copied in for the report.
 REPRO := reproduction/results
 ACCURACY ?= 0
