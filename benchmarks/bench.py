@@ -166,9 +166,10 @@ def job_times(tiny):
     import tempfile
     from masonrydem.results import write_json
     from masonrydem.sampling import records, study_samples
+    from masonrydem.study import willis_record
     size = TINY if tiny else ["geometry.courses=2", "numerics.cells=[1, 1, 1]"]
     with tempfile.TemporaryDirectory() as tmp:
-        write_json(f"{tmp}/samples.json", records(study_samples(2, 1)[0]))
+        write_json(f"{tmp}/samples.json", [willis_record(r, "nonspatial") for r in records(study_samples(2, 1)[0])])
         cmd = [sys.executable, "-m", "masonrydem.cli", "run", SCENE, "--samples", f"{tmp}/samples.json", "--variant",
                "nonspatial", "--sample", "0", "--out", tmp, "--format", "json", "--exit-zero",
                *(x for o in size for x in ("--set", o))]

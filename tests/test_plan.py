@@ -4,7 +4,7 @@ project's own config."""
 import pytest
 import yaml
 
-from masonrydem import plan
+from masonrydem import InputError, plan
 
 NUMERICS = ["numerics.cells=[8, 6, 2]", "numerics.subcontact_refine=1", "loading.bending.rate=2.5e-8"]
 ACCURACY = dict(
@@ -146,10 +146,25 @@ def test_the_projects_config_plans_its_modelform_study():
 
 def test_specimens_and_study_pictures():
     config = {"specimens": [{"name": "t", "scene": "t.yaml", "overrides": []}],
-              "study": {"variants": ["nonspatial", "spatial"]}}
+              "study": {"file": "config/studies/willis.yaml"}}
     assert plan.specimen_cases(config) == {"t": {"name": "t", "scene": "t.yaml", "overrides": []}}
     assert plan.study_pictures(config) == [("nonspatial", "joint"), ("nonspatial", "brick"),
                                            ("spatial", "joint"), ("spatial", "brick")]
+
+
+def test_the_config_overrides_the_study_files_samples_seed_and_levels():
+    """config/smoke.yaml's study: the Willis study file with 8 samples, seed
+    1 and two levels (as quantities); the study file's own otherwise."""
+    base = plan.study({"study": {"file": "config/studies/willis.yaml"}})
+    smoke = plan.study({"study": {"file": "config/studies/willis.yaml", "samples": 8, "seed": 1,
+                                  "levels": ["0 MPa", "0.5 MPa"]}})
+    assert (base.samples, base.seed, plan.study_levels({"study": {"file": "config/studies/willis.yaml"}})) == \
+        (100, 20260101, [0.0, 0.075, 0.15, 0.25, 0.5])
+    assert (smoke.samples, smoke.seed, smoke.levels) == (8, 1, (0.0, 0.5e6))
+    assert smoke.variables == base.variables and smoke.rules == base.rules
+    with pytest.raises(InputError) as e:
+        plan.study({"study": {"file": "config/studies/willis.yaml", "levels": [0.15]}})
+    assert e.value.field == "study.levels.0" and "did you mean 0.15 MPa?" in str(e.value)
 
 
 def test_the_projects_config_plans_its_accuracy_study():

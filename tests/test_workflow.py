@@ -216,12 +216,14 @@ def test_a_simulation_that_raises_is_recorded(tmp_path):
     and count such rows: tests/test_analysis.py)."""
     from masonrydem.results import write_json
     from masonrydem.sampling import records, study_samples
+    from masonrydem.study import willis_record
     smoke = yaml.safe_load(open("config/smoke.yaml"))["study"]
     root = tmp_path / "results"
     (root / "study").mkdir(parents=True)
-    nonspatial, _, _ = study_samples(smoke["n_samples"], smoke["seed"])
+    nonspatial, _, _ = study_samples(smoke["samples"], smoke["seed"])
     nonspatial.loc[nonspatial["sample"] == 0, "f_tj"] = -1e5
-    write_json(root / "study" / "samples_nonspatial.json", records(nonspatial))
+    write_json(root / "study" / "samples_nonspatial.json",
+               [willis_record(r, "nonspatial") for r in records(nonspatial)])
     target = root / "study" / "runs" / "nonspatial" / "sv0.0" / "s0" / "result.json"
     r = subprocess.run(SNAKEMAKE + [str(target), "--cores", "1", "--allowed-rules", "simulate", "--configfile",
                                     "config/smoke.yaml", "--config", f"results={root}"], capture_output=True, text=True)

@@ -4,6 +4,11 @@ overrides of each simulation job, from the workflow's config
 the workflow's (workflow/rules/common.smk); this module names the runs and
 says what each one overrides."""
 
+from dataclasses import replace
+from functools import lru_cache
+
+from .errors import InputError
+
 ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
 
 
@@ -101,9 +106,50 @@ def specimen_cases(config):
 
 
 # --- the stochastic study -----------------------------------------------------
+SWEPT = "loading.precompression.pressure"    # the workflow's sweep: its levels are the wildcard sv (MPa)
+
+
+def study(config):
+    """The typed study of the config: its study file (study.file), with
+    the config's samples, seed and levels where given (config/smoke.yaml:
+    a small study of the same file)."""
+    s = config["study"]
+    levels = tuple(str(x) for x in s["levels"]) if "levels" in s else None
+    return _study(s["file"], s.get("samples"), s.get("seed"), levels)
+
+
+@lru_cache(maxsize=None)
+def _study(path, samples, seed, levels):
+    from .studyfile import load_study, with_levels
+    st = load_study(path)
+    changes = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
+    if levels is not None:
+        st = with_levels(st, [_number(x) for x in levels], "study.levels")
+    if st.sweep_setting != SWEPT:
+        raise InputError(f"{path}: sweep.setting", f"the workflow sweeps {SWEPT} (its levels name the runs' "
+                                                  f"folders sv<MPa>), not {st.sweep_setting}")
+    return replace(st, **changes)
+
+
+def _number(text):
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def study_levels(config):
+    """The study's precompression levels in MPa (the wildcard sv)."""
+    return [level / 1e6 for level in study(config).levels]
+
+
+def study_variants(config):
+    return list(study(config).variants)
+
+
 def study_pictures(config):
     """(variant, failure mode) of the study's 3-D pictures."""
-    return [(v, m) for v in config["study"]["variants"] for m in ("joint", "brick")]
+    return [(v, m) for v in study_variants(config) for m in ("joint", "brick")]
 
 
 # --- the accuracy study (issues 5, 22) -----------------------------------------
@@ -198,8 +244,8 @@ def planned_scenes(config):
     plans: ``where`` names the config's setting (and the run) it comes from."""
     scene, numerics = config["scene"], config["numerics"]
     out = [("numerics", scene, numerics)]
-    out += [(f"study.precompression_mpa ({sv} MPa)", scene, effective(numerics, [pressure(sv)]))
-            for sv in config["study"]["precompression_mpa"]]
+    out += [(f"study levels ({sv} MPa)", study(config).scene, effective(numerics, [pressure(sv)]))
+            for sv in study_levels(config)]
     v = config["validation"]
     out += [(f"validation.cases ({c['name']} at {sv} MPa)", scene, validation_overrides(config, c["name"], sv))
             for c in v["cases"] for sv in v["precompression_mpa"]]

@@ -22,6 +22,7 @@ from .errors import InputError, check_finite
 from .inputs import apply_overrides, read_scene, read_yaml
 from .laws import BLOCK_MODELS, JOINT_LAWS, Elastic, MohrCoulomb
 from .masonry import Geometry, JointFields, UnitFields, joint_fields, unit_fields
+from .quantities import check_plausible, convert
 
 SCHEMA = read_yaml(resources.files(__package__).joinpath("scene_schema.yaml").read_text())
 # the choices of physics come from the tables of laws (laws.py)
@@ -156,11 +157,13 @@ def validate_scene(scene):
     InputError naming the first offending field."""
     if not isinstance(scene, dict):
         raise InputError("scene", "must be a mapping")
+    written = convert(scene, SCHEMA)     # quantities ('0.15 MPa') to SI floats
     check_finite(scene)
     errors = sorted(_Validator(SCHEMA).iter_errors(scene), key=lambda e: list(e.absolute_path))
     if errors:
         e = errors[0]
         raise InputError(".".join(str(p) for p in e.absolute_path) or "scene", e.message)
+    check_plausible(scene, SCHEMA, written)
     g, phys, num = _geometry(scene["geometry"]), _physics(scene["physics"]), _numerics(scene["numerics"])
     loading = _loading(scene["loading"])
     if phys.large and phys.blocks != "rigid":

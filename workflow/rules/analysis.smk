@@ -37,6 +37,7 @@ rule regression:
         templates=[get_template(n) for n in REGRESSION_CAPTIONS],
     output:
         equations=report(f"{R}/study/equations.csv", caption=get_caption("equations"), category="Prediction"),
+        predictor=f"{R}/study/predictor.json",
         predicted=report(f"{R}/study/predicted_vs_simulated.png", caption=get_caption("equations"),
                          category="Prediction"),
         design=report(f"{R}/study/design_comparison.png", caption=get_caption("design_comparison"),

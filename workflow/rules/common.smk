@@ -123,9 +123,18 @@ def get_specimen_outputs():
 # --- the stochastic study -------------------------------------------------------
 def get_study_runs(kind):
     """Every simulation's result (kind 'result') or curve file."""
-    s = config["study"]
-    return expand(f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/{kind}.json", variant=s["variants"],
-                  sv=s["precompression_mpa"], sample=range(s["n_samples"]))
+    return expand(f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/{kind}.json", variant=plan.study_variants(config),
+                  sv=plan.study_levels(config), sample=range(plan.study(config).samples))
+
+
+def get_study_design():
+    """What decides the samples and their settings: the study's number of
+    samples, seed, variables, correlations, variants and rules (not its
+    levels: a change of the levels must not redraw the samples)."""
+    s = plan.study(config)
+    return dict(samples=s.samples, seed=s.seed, variables=[repr(v) for v in s.variables],
+                correlations={f"{a}~{b}": rho for (a, b), rho in s.correlations.items()}, variants=s.variants,
+                rules=s.rules, scene=s.scene)
 
 
 def get_study_sets(wildcards):
@@ -154,7 +163,8 @@ TABLES = {
 def get_study_outputs():
     names = ("statistics.csv", "correlations.csv", "increase.csv", "sampling_check.csv", "running_mean.png",
              "brick_share.png", "correlation_vs_sigma.png", "scatter_deviation.png", "curves_by_mode.png",
-             "equations.csv", "predicted_vs_simulated.png", "design_comparison.png", "paper_comparison.csv")
+             "equations.csv", "predictor.json", "predicted_vs_simulated.png", "design_comparison.png",
+             "paper_comparison.csv")
     return [*(f"{R}/study/pictures/{v}_{m}.png" for v, m in plan.study_pictures(config)),
             *(f"{R}/study/{name}" for name in names),
             *(f"{R}/report/tables/{name}.html" for name in TABLES)]

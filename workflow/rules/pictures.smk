@@ -20,7 +20,7 @@ rule study_pictures:
     """3-D pictures of typical study runs, per variant and failure mode."""
     input:
         runs=f"{R}/study/runs.parquet",
-        samples=expand(f"{R}/study/samples_{{variant}}.json", variant=config["study"]["variants"]),
+        samples=expand(f"{R}/study/samples_{{variant}}.json", variant=plan.study_variants(config)),
         scene=config["scene"],
         template=get_template("study_pictures"),
     output:
@@ -30,7 +30,7 @@ rule study_pictures:
     params:
         code=get_code("study_pictures"),
         pictures=plan.study_pictures(config),
-        variants=config["study"]["variants"],
+        variants=plan.study_variants(config),
         overrides=config["numerics"],
     log:
         f"{R}/logs/study/pictures.log",

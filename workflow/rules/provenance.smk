@@ -104,8 +104,7 @@ def get_runs(sets, runs, *extra):
 def get_study_runs_key():
     """get_runs of the study: every level's settings and the samples' seed
     (their number is in the list of inputs)."""
-    return get_runs(get_study_sets, [dict(sv=sv) for sv in config["study"]["precompression_mpa"]],
-                    config["study"]["seed"])
+    return get_runs(get_study_sets, [dict(sv=sv) for sv in plan.study_levels(config)], repr(get_study_design()))
 
 
 def _record_path(path):

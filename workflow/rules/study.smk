@@ -7,13 +7,12 @@ rule sample:
     reruns every simulation (Snakemake plans them before it sees the
     samples unchanged), so their check is a rule of its own."""
     output:
-        nonspatial=f"{R}/study/samples_nonspatial.json",
-        spatial=f"{R}/study/samples_spatial.json",
+        samples=expand(f"{R}/study/samples_{{variant}}.json", variant=plan.study_variants(config)),
     params:
         # only what sampling reads: a change of any other study setting
         # (levels, curve points) must not redraw the samples
-        n_samples=config["study"]["n_samples"],
-        seed=config["study"]["seed"],
+        design=get_study_design(),
+        variants=plan.study_variants(config),
         code=get_code("sample"),
     log:
         f"{R}/logs/study/sample.log",
@@ -32,8 +31,7 @@ rule sampling_check:
         check=report(f"{R}/study/sampling_check.csv", caption=get_caption("sampling_check"), category="Study"),
         caption=get_caption_file("sampling_check"),
     params:
-        n_samples=config["study"]["n_samples"],
-        seed=config["study"]["seed"],
+        design=get_study_design(),
         code=get_code("sampling_check"),
     log:
         f"{R}/logs/study/sampling_check.log",

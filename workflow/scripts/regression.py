@@ -1,6 +1,7 @@
 """Prediction equations (Lasso, 5-fold CV) per failure mode on the
 non-spatial runs; the lower-of-two prediction checked run by run and
 against the design rules."""
+import json
 import sys
 
 sm = snakemake  # noqa: F821
@@ -12,6 +13,7 @@ import pandas as pd  # noqa: E402
 from masonrydem import analysis as A  # noqa: E402
 from masonrydem import captions  # noqa: E402
 from masonrydem import figures as F  # noqa: E402
+from masonrydem import predict  # noqa: E402
 from masonrydem import validation as V  # noqa: E402
 from masonrydem.scene import load_scene  # noqa: E402
 
@@ -24,7 +26,10 @@ intervals = A.equation_intervals(ns, **sm.params.bootstrap,
 pd.DataFrame(rows).merge(intervals, on="mode", how="left").to_csv(sm.output.equations, index=False,
                                                                   float_format="%.5g")
 F.predicted_vs_simulated(fits, sm.output.predicted)
-geometry = V.wallette_geometry(load_scene(sm.input.scene))
+scene = load_scene(sm.input.scene)
+with open(sm.output.predictor, "w") as f:       # masonrydem predict
+    json.dump(predict.build(fits, ns, scene, source=f"the study's {len(ns)} ok non-spatial runs"), f, indent=1)
+geometry = V.wallette_geometry(scene)
 design = V.design_table(fits, ns, resid_sd, np.linspace(0.0, max(runs.sigma_v_mpa.max(), 0.5), 51), geometry)
 simulated = ns.groupby("sigma_v_mpa").strength_mpa.agg(["mean", "std"])
 F.design_comparison(design, simulated, sm.output.design)

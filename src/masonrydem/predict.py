@@ -1,0 +1,127 @@
+"""A study's prediction equations as a tool: ``masonrydem predict`` and
+``predict()``.
+
+The study's regression (workflow/scripts/regression.py) writes a
+predictor file (results/study/predictor.json): the Lasso equation of each
+failure mode (strength in MPa of f_tu, f_tj and sigma_v in MPa), the range
+of the inputs they were fitted on, the wallette they hold for (its
+section, thickness and shear span, to turn a strength into a load), and
+each equation's out-of-fold residuals, as simulated over predicted
+strength: the error on a wallette the fit had not seen (nested 5-fold
+cross-validation, folds of whole samples).
+
+``predict`` evaluates both equations; the lower one governs (the lower of
+two, as the study scores it) and names the failure mode.  Its 95 %
+prediction interval is the predicted strength times the 2.5 and 97.5 %
+quantiles of that mode's out-of-fold ratios.  Inputs outside the fitted
+range are refused: the equations are a fit over that range, nothing more.
+"""
+import json
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InputError
+from .quantities import is_plain, meant, to_si
+
+ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
+
+INPUTS = (("f_tu", "--ftu", "f_tu_mpa"), ("f_tj", "--ftj", "f_tj_mpa"), ("sigma_v", "--sv", "sigma_v_mpa"))
+
+
+def build(fits, ns, scene, source):
+    """The predictor of the fitted equations ``fits`` (analysis.
+    prediction_equations: mode -> (equation, strengths)) on the runs
+    ``ns``, for the wallette of the typed ``scene``; ``source``: where the
+    runs came from (named in the printout)."""
+    g, bend = scene.geometry, scene.loading.bending
+    modes = {}
+    for mode, (eq, _) in fits.items():
+        g_mode = ns[ns.failure_mode == mode]
+        ratio = g_mode.strength_mpa.to_numpy() / eq["cv_predicted"]
+        modes[mode] = dict(intercept=eq["intercept"], coef=eq["coef"], n=eq["n"], cv_mape_pct=eq["cv_mape"],
+                           ratio_q025=float(np.quantile(ratio, 0.025)), ratio_q975=float(np.quantile(ratio, 0.975)))
+    return dict(
+        source=source, scene=scene.name, modes=modes,
+        fitted_range={name: [float(ns[col].min()), float(ns[col].max())] for name, _, col in INPUTS},
+        wallette=dict(courses=g.courses, units_per_course=g.units_per_course,
+                      unit_mm=[g.unit_length * 1e3, g.unit_height * 1e3, g.unit_width * 1e3],
+                      joint_mm=g.joint_thickness * 1e3, section_height_m=bend.section_height,
+                      thickness_m=g.unit_width, shear_span_m=bend.shear_span))
+
+
+def _value(eq, x):
+    from .analysis import predict as evaluate
+    return float(evaluate(eq, *x).item())
+
+
+@dataclass(frozen=True)
+class Prediction:
+    strength_mpa: float         # the governing (lower) equation's
+    mode: str                   # joint or brick
+    interval_mpa: tuple         # 95 % prediction interval
+    load_kN: float              # P: the total of the two line loads
+    interval_kN: tuple
+    by_mode: dict               # mode -> strength (MPa)
+    inputs_mpa: tuple           # f_tu, f_tj, sigma_v
+    wallette: dict
+    source: str
+
+    def lines(self):
+        w = self.wallette
+        out = [f"the equations of {self.source}, for the wallette they were fitted on: {_wallette(w)}; section "
+               f"b = {w['section_height_m']:g} m, thickness h = {w['thickness_m']:g} m, shear span a = "
+               f"{w['shear_span_m']:.4g} m (sigma = 6 M / (b h^2), M = P a / 2)",
+               "  f_tu {:g} MPa, f_tj {:g} MPa, sigma_v {:g} MPa".format(*self.inputs_mpa)]
+        out += [f"  {m} failure: {s:.3f} MPa" for m, s in self.by_mode.items()]
+        lo, hi = self.interval_mpa
+        out.append(f"governing: {self.mode} failure, strength {self.strength_mpa:.3f} MPa (95 % prediction interval "
+                   f"{lo:.3f} to {hi:.3f} MPa), load P = {self.load_kN:.2f} kN ({self.interval_kN[0]:.2f} to "
+                   f"{self.interval_kN[1]:.2f} kN)")
+        return out
+
+
+def _wallette(w):
+    unit = " x ".join(f"{x:g}" for x in w["unit_mm"])
+    return f"{w['courses']} courses x {w['units_per_course']} units of {unit} mm, joints {w['joint_mm']:g} mm"
+
+
+def load(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except OSError as e:
+        raise InputError("--study", f"cannot read {path}: {e.strerror} (the study's regression writes it: "
+                                    "snakemake --cores 2 results/study/predictor.json)") from None
+    except ValueError as e:
+        raise InputError("--study", f"{path} is not a predictor file: {e}") from None
+
+
+def predict(f_tu, f_tj, sigma_v, study="results/study/predictor.json"):
+    """The prediction at the strengths f_tu, f_tj and the precompression
+    sigma_v (quantities such as '3.5 MPa', or numbers in Pa); ``study``: a
+    predictor file or its mapping (build)."""
+    p = load(study) if isinstance(study, str) else study
+    source = p["source"] if isinstance(study, dict) else f"{study} ({p['source']})"
+    x = []
+    for (name, option, _), value in zip(INPUTS, (f_tu, f_tj, sigma_v)):
+        mpa = to_si(value, "Pa", option) / 1e6
+        lo, hi = p["fitted_range"][name]
+        if not lo <= mpa <= hi:
+            plain = is_plain(value)
+            guess = meant(float(value), "Pa", lo * 1e6, hi * 1e6) if plain else None
+            raise InputError(option, f"{f'{float(value):g} Pa' if plain else value} is outside the range "
+                             f"the equations were fitted on, {lo:.3g} to {hi:.3g} MPa"
+                             + (f": did you mean {guess}?" if guess else "")
+                             + f" (they hold only there, and only for the wallette of the scene {p['scene']!r}: "
+                             f"{_wallette(p['wallette'])})")
+        x.append(mpa)
+    by_mode = {m: _value(eq, x) for m, eq in p["modes"].items()}
+    mode = min(by_mode, key=by_mode.get)
+    s, eq = by_mode[mode], p["modes"][mode]
+    w = p["wallette"]
+    to_kN = w["section_height_m"] * w["thickness_m"] ** 2 / 6.0 / (0.5 * w["shear_span_m"]) * 1e3  # MPa -> kN
+    interval = (s * eq["ratio_q025"], s * eq["ratio_q975"])
+    return Prediction(strength_mpa=s, mode=mode, interval_mpa=interval, load_kN=s * to_kN,
+                      interval_kN=tuple(v * to_kN for v in interval), by_mode=by_mode, inputs_mpa=tuple(x),
+                      wallette=w, source=source)
