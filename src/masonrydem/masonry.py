@@ -57,6 +57,13 @@ class Geometry:
         return self.courses * self.modelled_unit[2]
 
     @property
+    def built_height(self):
+        """The wall's height as built: its courses and the bed joints between
+        them (the modelled units' half joints at the top and the bottom are
+        not masonry): the section height b of the bending test."""
+        return self.courses * self.unit_height + (self.courses - 1) * self.joint_thickness
+
+    @property
     def length(self):
         """Overall length of the wall (the courses together)."""
         return self.modelled_unit[0] * (self.units_per_course + (self.bond_offset if self.courses > 1 else 0))

@@ -165,7 +165,7 @@ def validate_scene(scene):
         raise InputError(".".join(str(p) for p in e.absolute_path) or "scene", e.message)
     check_plausible(scene, SCHEMA, written)
     g, phys, num = _geometry(scene["geometry"]), _physics(scene["physics"]), _numerics(scene["numerics"])
-    loading = _loading(scene["loading"])
+    loading = _loading(scene["loading"], g)
     if phys.large and phys.blocks != "rigid":
         raise InputError("physics.displacements", "large displacements need rigid blocks: deformable blocks "
                          f"({phys.blocks}) are small-displacement (strains on the initial geometry)")
@@ -201,13 +201,14 @@ def _physics(p):
     return Physics(blocks=p["blocks"], joints=p["joints"], gravity=p["gravity"], large=p["displacements"] == "large")
 
 
-def _loading(lo):
+def _loading(lo, g):
     test = lo["test"]
     b = lo["bending"]
     drive = {k: lo[test][k] for k in ("rate", "ramp_steps", "max_displacement", "load_drop", "max_steps")}
     return Loading(test=test, precompression=Precompression(**lo["precompression"]), drive=Drive(**drive),
                    bending=Bending(supports_x=tuple(b["supports_x"]), loads_x=tuple(b["loads_x"]),
-                                   section_height=b["section_height"], strip_width=b["strip_width"],
+                                   section_height=b.get("section_height", g.built_height),
+                                   strip_width=b["strip_width"],
                                    strip_stiffness_ratio=b["strip_stiffness_ratio"], strips_turn=b["strips_turn"],
                                    strip_friction=b["strip_friction"]))
 
