@@ -38,3 +38,40 @@ def test_another_wallette_gets_its_own_section(courses, height, joint, b):
     sp = build(scene)
     a, h = 0.410 - 0.135, 0.114
     assert sp.strength(10e3) == pytest.approx(6 * 10e3 * a / 2 / (b * h * h), rel=1e-12)
+
+
+def _spans(*changes):
+    raw = read_scene(WILLIS)
+    bend = raw["loading"]["bending"]
+    del bend["supports_x"], bend["loads_x"]
+    for key, value in changes:
+        bend[key] = value
+    return validate_scene(raw)
+
+
+def test_supports_and_loads_placed_by_their_spans():
+    """The Willis test by its spans: a = 275 mm, 260 mm between the loads,
+    about the middle of the 1.08 m toothed wall: the absolute positions."""
+    b = _spans(("shear_span", "275 mm"), ("load_span", "260 mm")).loading.bending
+    assert b.supports_x == pytest.approx((0.135, 0.945), abs=1e-12)
+    assert b.loads_x == pytest.approx((0.410, 0.670), abs=1e-12)
+    assert b.shear_span == pytest.approx(0.275, abs=1e-12)
+    # a wall of 3 units a course (0.84 m): the same spans, centred on 0.42 m
+    raw = read_scene(WILLIS)
+    del raw["loading"]["bending"]["supports_x"], raw["loading"]["bending"]["loads_x"]
+    raw["geometry"]["units_per_course"] = 3
+    raw["loading"]["bending"].update(shear_span=0.2, load_span=0.2)
+    b = validate_scene(raw).loading.bending
+    assert b.supports_x == pytest.approx((0.12, 0.72), abs=1e-12) and b.loads_x == pytest.approx((0.32, 0.52))
+
+
+@pytest.mark.parametrize("changes,field", [
+    ((("shear_span", 0.275),), "loading.bending.shear_span"),
+    ((("shear_span", 0.275), ("load_span", 0.26), ("loads_x", [0.41, 0.67])), "loading.bending.loads_x"),
+    ((("shear_span", 0.6), ("load_span", 0.26)), "loading.bending.supports_x.0"),   # beyond the wall
+])
+def test_spans_refused_when_incomplete_doubled_or_too_long(changes, field):
+    from masonrydem import InputError
+    with pytest.raises(InputError) as e:
+        _spans(*changes)
+    assert e.value.field == field
