@@ -131,3 +131,27 @@ def test_precompression_force_and_where_it_acts(spreader):
     assert np.sum(fz * x) / np.sum(fz) == pytest.approx(0.540 if spreader else 0.600, abs=1e-9)
     end = np.isin(b.block_of_node, np.flatnonzero(sp.block_unit == sp.units.index((5, 3))))   # its blocks
     assert np.sum(fz[end] * x[end]) / np.sum(fz[end]) == pytest.approx(0.900 if spreader else 0.960, abs=1e-9)
+
+
+def test_a_scene_without_numerics_runs_at_the_accuracy_studys_choice(tmp_path):
+    """One source of numerical defaults: the accuracy study's 'default'
+    setting is the study's scene with no numerics of its own, so the
+    schema's defaults are what it measured; choice.csv marks that setting
+    as chosen and within 2 % of every reference with the right modes.  The
+    candidates next to it (config.yaml: pc_c6x3x2_r1 is the defaults with
+    subcontact_refine=1) name the same cells, 6 x 3 x 2 along, through and
+    up a unit.  A scene that says nothing about its physics or numerics
+    gets exactly these."""
+    import pandas as pd
+    import yaml
+    assert "numerics" not in yaml.safe_load(open(WILLIS))
+    choice = pd.read_csv("results/accuracy/choice.csv")
+    chosen = choice[choice["default"]]
+    assert list(chosen.setting) == ["default"]
+    assert chosen.ok.item() and chosen.modes_ok.item() and chosen.max_abs_error.item() <= 0.02
+    bare = tmp_path / "bare.yaml"
+    bare.write_text("name: bare\n")
+    sc = load_scene(str(bare))
+    assert sc.physics.blocks == "potential-crack"
+    assert sc.numerics == load_scene(WILLIS).numerics
+    assert (sc.numerics.cells, sc.numerics.elastic_element, sc.numerics.refine.head) == ((6, 3, 2), "hex8i", (1, 2, 1))

@@ -21,7 +21,8 @@ def test_the_willis_study_file_is_the_study_of_docs_study_md():
     s = load_study(WILLIS)
     assert s.variables == STUDY_VARIABLES and s.correlations == STUDY_CORRELATIONS
     assert (s.samples, s.seed) == (100, 20260101)
-    assert s.variants == {"nonspatial": "wallette", "spatial": "items"}
+    assert s.variants == {"nonspatial": {"draw": "wallette", "correlation_length": None},
+                          "spatial": {"draw": "items", "correlation_length": None}}
     assert s.levels == (0.0, 0.075e6, 0.15e6, 0.25e6, 0.5e6)
     assert s.rules["materials.joints.GI_per_ft"] == GI_PER_FT
     assert s.rules["materials.units.Gf_rule"] == {"coefficient": GF_COEFFICIENT, "exponent": GF_EXPONENT}
@@ -87,7 +88,11 @@ def _study(tmp_path, **change):
     (dict(variables__f_tj__cov=None), "study.variables.f_tj", "one of cov or sd"),
     (dict(variables__f_tj__per="brick"), "study.variables.f_tj.per", "is not one of"),
     (dict(correlations=[{"between": ["E_b", "f_x"], "rho": 0.5}]), "study.correlations.0.between.1", "not a variable"),
-    (dict(variants__spatial__draw="field"), "study.variants.spatial.draw", "is not one of"),
+    (dict(variants__spatial__draw="grid"), "study.variants.spatial.draw", "is not one of"),
+    (dict(variants__spatial__draw="field"), "study.variants.spatial.correlation_length", "needs its correlation length"),
+    (dict(variants__spatial__correlation_length="0.3 m"), "study.variants.spatial.correlation_length", "only a field"),
+    (dict(variants__spatial={"draw": "field", "correlation_length": "300 MPa"}),
+     "study.variants.spatial.correlation_length", "a stress"),
     (dict(sweep__levels=["0 MPa", "0.15"]), "study.sweep.levels.1", "did you mean 0.15 MPa?"),
     (dict(rules={"materials.joints.GI_per_ft": 0.03}), "study.rules", "did you mean 0.03 mm?"),
     (dict(scene="config/scenes/none.yaml"), "study.scene", "cannot read"),
@@ -96,3 +101,8 @@ def test_a_bad_study_file_is_refused_naming_the_field(tmp_path, change, field, w
     with pytest.raises(InputError) as e:
         load_study(_study(tmp_path, **change))
     assert e.value.field == field and words in e.value.reason, str(e.value)
+
+
+def test_a_field_variant_reads_its_correlation_length_in_any_length_unit(tmp_path):
+    s = load_study(_study(tmp_path, variants__spatial={"draw": "field", "correlation_length": "300 mm"}))
+    assert s.variants["spatial"] == {"draw": "field", "correlation_length": 0.3}

@@ -132,6 +132,15 @@ def refine_correlation(x, target, rng, tol=CORRELATION_TOL, tries=200_000):
     return x
 
 
+def _target(names, correlations):
+    """The correlation matrix of ``names`` with the given pairs' values."""
+    target = np.eye(len(names))
+    for (a, b), rho in correlations.items():
+        i, j = names.index(a), names.index(b)
+        target[i, j] = target[j, i] = rho
+    return target
+
+
 def lhs(n, variables=STUDY_VARIABLES, correlations=None, seed=0):
     """n Latin Hypercube samples of ``variables`` with the given Pearson
     correlations between named pairs.  Returns (dict name -> array,
@@ -142,10 +151,7 @@ def lhs(n, variables=STUDY_VARIABLES, correlations=None, seed=0):
     u = qmc.LatinHypercube(d=d, seed=rng).random(n)
     x = np.column_stack([v.frozen().ppf(u[:, k]) for k, v in enumerate(variables)])
     names = [v.name for v in variables]
-    target = np.eye(d)
-    for (a, b), rho in correlations.items():
-        i, j = names.index(a), names.index(b)
-        target[i, j] = target[j, i] = rho
+    target = _target(names, correlations)
     if n > d > 1:
         x = iman_conover(x, target)
         x = refine_correlation(x, target, rng)
@@ -181,6 +187,45 @@ def study_samples(n, seed, n_units=24, n_joints=38, variables=STUDY_VARIABLES, c
             row.update({k: x.tolist() for k, x in drawn.items()})
         rows.append(row)
     return nonspatial, pd.DataFrame(rows), achieved
+
+
+def field_samples(n, seed, variables, correlations, centres, length):
+    """Random fields of the variables carried per unit and per joint, one
+    draw per sample (a study variant that draws 'field').
+
+    Each variable is a Gaussian field mapped to its marginal (u = Phi(g),
+    x = F^-1(u)).  Between two items at distance r on the wall's face the
+    Gaussian correlation is exp(-r / ``length``) (the exponential, Markov,
+    kernel; positive definite in any dimension); variables of the same
+    items are correlated as ``correlations`` says, at the same point, in
+    Gaussian space (a separable model: covariance = kernel x cross
+    correlation; for a lognormal pair the Pearson correlation of the values
+    is then slightly below rho, 0.49 for rho 0.5 at COV 0.25 and 0.30).
+    ``centres`` gives each item's (x, z) (masonry.Geometry.item_centres).
+    A long ``length`` gives one value for the wallette, a short one
+    independent items.  Returns a DataFrame like the spatial table of
+    ``study_samples``: sample and a list per variable.  Seeds are spawned
+    from ``seed`` per sample, so each draw is reproducible on its own."""
+    import pandas as pd
+    rows = []
+    for i, ss in enumerate(np.random.SeedSequence([seed, 2]).spawn(n)):
+        row = {"sample": i}
+        for per, s in zip(("unit", "joint"), ss.spawn(2)):
+            group = [v for v in variables if v.per == per]
+            if group:
+                row.update(_field(group, correlations, centres[per], length, np.random.default_rng(s)))
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def _field(group, correlations, xy, length, rng):
+    r = np.linalg.norm(xy[:, None, :] - xy[None, :, :], axis=-1)
+    kernel = np.linalg.cholesky(np.exp(-r / length) + 1e-10 * np.eye(len(xy)))
+    names = [v.name for v in group]
+    cross = np.linalg.cholesky(_target(names, {p: c for p, c in correlations.items() if set(p) <= set(names)}))
+    g = kernel @ rng.standard_normal((len(xy), len(group))) @ cross.T
+    u = stats.norm.cdf(g)
+    return {v.name: np.asarray(v.frozen().ppf(u[:, k]), float).tolist() for k, v in enumerate(group)}
 
 
 def records(table):

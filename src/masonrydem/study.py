@@ -27,9 +27,10 @@ PER_ITEM = {"unit": ("materials.units.", "materials.per_unit."), "joint": ("mate
 def settings(sample, draw, variables, rules):
     """The scene settings (dotted path -> value) of one sample record
     (its number and each variable's value: a scalar for draw 'wallette', a
-    sequence per unit or joint for 'items'), with the study's ``rules``."""
-    if draw not in ("wallette", "items"):
-        raise ValueError(f"unknown draw {draw!r}: wallette or items")
+    sequence per unit or joint for 'items' and 'field'), with the study's
+    ``rules``."""
+    if draw not in ("wallette", "items", "field"):
+        raise ValueError(f"unknown draw {draw!r}: wallette, items or field")
     out = {}
     for v in variables:
         if draw == "wallette":

@@ -38,7 +38,7 @@ class Study:
     seed: int
     variables: tuple           # sampling.Variable, in the file's order
     correlations: dict         # (name, name) -> rho
-    variants: dict             # name -> draw ('wallette' or 'items')
+    variants: dict             # name -> {'draw': wallette, items or field, 'correlation_length': m or None}
     rules: dict                # dotted scene setting -> value
     sweep_setting: str
     levels: tuple              # SI
@@ -101,6 +101,20 @@ def _variable(name, v):
                     bounds=bounds or None, setting=v["setting"], per=v.get("per"))
 
 
+def _variant(name, raw, variables):
+    """{'draw': ..., 'correlation_length': m or None} of a variant."""
+    field, draw = f"variants.{name}", raw["draw"]
+    missing = [v.name for v in variables if draw != "wallette" and not v.per]
+    if missing:
+        raise InputError(f"{field}.draw", f"draws per item, but {', '.join(missing)} has no 'per'")
+    if (draw == "field") != ("correlation_length" in raw):
+        raise InputError(f"{field}.correlation_length", "a field needs its correlation length, and only a field has one")
+    length = to_si(raw["correlation_length"], "m", f"{field}.correlation_length") if draw == "field" else None
+    if length is not None and not length > 0:
+        raise InputError(f"{field}.correlation_length", f"must be above 0, got {raw['correlation_length']!r}")
+    return {"draw": draw, "correlation_length": length}
+
+
 def _typed(raw):
     variables = tuple(_variable(n, v) for n, v in raw["variables"].items())
     names = [v.name for v in variables]
@@ -110,11 +124,7 @@ def _typed(raw):
             if n not in names:
                 raise InputError(f"correlations.{i}.between.{k}", f"{n!r} is not a variable ({', '.join(names)})")
         correlations[tuple(c["between"])] = float(c["rho"])
-    variants = {n: v["draw"] for n, v in raw["variants"].items()}
-    for n, draw in variants.items():
-        missing = [v.name for v in variables if draw == "items" and not v.per]
-        if missing:
-            raise InputError(f"variants.{n}.draw", f"draws per item, but {', '.join(missing)} has no 'per'")
+    variants = {n: _variant(n, v, variables) for n, v in raw["variants"].items()}
     sweep = raw["sweep"]
     unit = _unit(sweep["setting"], "sweep.setting")
     levels = tuple(to_si(x, unit, f"sweep.levels.{i}") for i, x in enumerate(sweep["levels"]))
