@@ -33,7 +33,7 @@ rule regression:
     """Lasso prediction equations per mode and the design-rule comparison."""
     input:
         runs=f"{R}/study/runs.parquet",
-        scene=config["scene"],
+        scene=get_study_scene(),
         templates=[get_template(n) for n in REGRESSION_CAPTIONS],
     output:
         equations=report(f"{R}/study/equations.csv", caption=get_caption("equations"), category="Prediction"),
@@ -56,30 +56,32 @@ rule regression:
         "../scripts/regression.py"
 
 
-rule scorecard:
-    """The source paper's published figures beside ours, with our intervals."""
-    input:
-        runs=f"{R}/study/runs.parquet",
-        statistics=f"{R}/study/statistics.csv",
-        increase=f"{R}/study/increase.csv",
-        equations=f"{R}/study/equations.csv",
-        paper=config["study"]["paper"],
-        template=get_template("paper_comparison"),
-    output:
-        table=report(f"{R}/study/paper_comparison.csv", caption=get_caption("paper_comparison"),
-                     category="Paper side by side"),
-        figure=report(f"{R}/study/paper_comparison.png", caption=get_caption("paper_comparison"),
-                      category="Paper side by side"),
-        caption=get_caption_file("paper_comparison"),
-    params:
-        code=get_code("scorecard"),
-        bootstrap=config["study"]["bootstrap"],
-    log:
-        f"{R}/logs/study/scorecard.log",
-    conda:
-        ENV
-    script:
-        "../scripts/scorecard.py"
+if "paper_comparison" in TABLES:
+
+    rule scorecard:
+        """The source paper's published figures beside ours, with our intervals."""
+        input:
+            runs=f"{R}/study/runs.parquet",
+            statistics=f"{R}/study/statistics.csv",
+            increase=f"{R}/study/increase.csv",
+            equations=f"{R}/study/equations.csv",
+            paper=config["study"]["paper"],
+            template=get_template("paper_comparison"),
+        output:
+            table=report(f"{R}/study/paper_comparison.csv", caption=get_caption("paper_comparison"),
+                         category="Paper side by side"),
+            figure=report(f"{R}/study/paper_comparison.png", caption=get_caption("paper_comparison"),
+                          category="Paper side by side"),
+            caption=get_caption_file("paper_comparison"),
+        params:
+            code=get_code("scorecard"),
+            bootstrap=config["study"]["bootstrap"],
+        log:
+            f"{R}/logs/study/scorecard.log",
+        conda:
+            ENV
+        script:
+            "../scripts/scorecard.py"
 
 
 rule tables:

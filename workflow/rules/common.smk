@@ -127,6 +127,12 @@ def get_study_runs(kind):
                   sv=plan.study_levels(config), sample=range(plan.study(config).samples))
 
 
+def get_study_scene():
+    """The study's scene (its study file's; config's scene serves the
+    validation, the hard cases and the other deterministic runs)."""
+    return plan.study(config).scene
+
+
 def get_study_design():
     """What decides the samples and their settings: the study's number of
     samples, seed, variables, correlations, variants and rules (not its
@@ -158,13 +164,15 @@ TABLES = {
     "design_comparison": ("Design rules against the simulations", "Prediction", "design_comparison"),
     "paper_comparison": ("The source paper side by side", "Paper side by side", "paper_comparison"),
 }
+if not config["study"].get("paper"):    # a study with no source to compare: no scorecard
+    del TABLES["paper_comparison"]
 
 
 def get_study_outputs():
     names = ("statistics.csv", "correlations.csv", "increase.csv", "sampling_check.csv", "running_mean.png",
              "brick_share.png", "correlation_vs_sigma.png", "scatter_deviation.png", "curves_by_mode.png",
              "equations.csv", "predictor.json", "predicted_vs_simulated.png", "design_comparison.png",
-             "paper_comparison.csv")
+             *(["paper_comparison.csv"] if "paper_comparison" in TABLES else []))
     return [*(f"{R}/study/pictures/{v}_{m}.png" for v, m in plan.study_pictures(config)),
             *(f"{R}/study/{name}" for name in names),
             *(f"{R}/report/tables/{name}.html" for name in TABLES)]

@@ -21,7 +21,7 @@ rule study_pictures:
     input:
         runs=f"{R}/study/runs.parquet",
         samples=expand(f"{R}/study/samples_{{variant}}.json", variant=plan.study_variants(config)),
-        scene=config["scene"],
+        scene=get_study_scene(),
         template=get_template("study_pictures"),
     output:
         pictures=[report(f"{R}/study/pictures/{v}_{m}.png", caption=get_caption("study_pictures"),

@@ -45,7 +45,7 @@ rule simulate:
     """One simulation: a variant, a precompression level, a sample."""
     input:
         samples=f"{R}/study/samples_{{variant}}.json",
-        scene=ancient(config["scene"]),  # by its content: params.scene
+        scene=ancient(get_study_scene()),  # by its content: params.scene
     output:
         result=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/result.json",
         curve=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/curve.json",
@@ -54,7 +54,7 @@ rule simulate:
         out=get_run_dir,
         solver=get_solver_hash(),
         python=get_python,
-        scene=get_file_digest(config["scene"]),
+        scene=get_file_digest(get_study_scene()),
     log:
         f"{R}/logs/study/{{variant}}_sv{{sv}}_s{{sample}}.log",
     threads: 1
