@@ -10,6 +10,8 @@ from masonrydem.scene import load_scene, validate_scene
 from masonrydem.specimen import build
 
 WILLIS = "config/scenes/willis.yaml"
+# one block per unit (no crack interfaces), as these numbering tests count
+ONE_BLOCK_PER_UNIT = {"physics": {"blocks": "elasto-plastic"}, "numerics": {"cells": [5, 2, 2], "subcontact_refine": 1}}
 
 
 def test_willis_scene_is_the_study_specimen():
@@ -67,8 +69,8 @@ def test_joint_numbering_and_per_joint_values():
     unit of courses 1-5; a bed plane touching two lower units is one joint.
     Per-joint f_tj reach exactly the sub-contacts of their joint."""
     ft = np.linspace(0.1e6, 0.8e6, 38)
-    sc = validate_scene({"name": "t", "materials": {"per_joint": {"ft": ft.tolist()},
-                                                    "joints": {"GI_per_ft": 3.0e-5}}})
+    sc = validate_scene({"name": "t", **ONE_BLOCK_PER_UNIT, "materials": {"per_joint": {"ft": ft.tolist()},
+                                                                          "joints": {"GI_per_ft": 3.0e-5}}})
     sp = build(sc)
     a, par = sp.assembly, sp.assembly.joints.par
     for c, j in zip(a.contacts, sp.contact_joint):
@@ -89,7 +91,7 @@ def test_joint_numbering_and_per_joint_values():
 def test_joint_stiffness_follows_mean_unit_modulus():
     """A joint's k_n uses the mean E_b of the two units it connects."""
     E = np.where(np.arange(24) % 2, 10e9, 20e9)
-    sp = build(validate_scene({"name": "t", "materials": {"per_unit": {"E": E.tolist()}}}))
+    sp = build(validate_scene({"name": "t", **ONE_BLOCK_PER_UNIT, "materials": {"per_unit": {"E": E.tolist()}}}))
     par = sp.assembly.joints.par
     for c in sp.assembly.contacts:
         expected = joint_kn(0.5 * (E[c.block_a] + E[c.block_b]), 0.1, 0.01)
