@@ -278,7 +278,7 @@ def _set(config, dotted, value):
     ("numerics", ["numerics.cells=[0, 1, 1]"], "numerics", "numerics.cells.0"),
     ("numerics", ["numerics.safety=2"], "numerics", "numerics.safety"),
     ("numerics", ["loading.bending.loads_x=[0.05, 0.67]"], "numerics", "loading.bending.loads_x.0"),
-    ("study.precompression_mpa", [0.0, math.nan], "study.precompression_mpa.1", "finite"),
+    ("study.levels", [0.0, math.nan], "study.levels.1", "finite"),
     ("validation.precompression_mpa", [math.inf], "validation.precompression_mpa.0", "finite"),
     ("accuracy.tolerance", math.nan, "accuracy.tolerance", "finite"),
     ("validation.cases.0.overrides", ["materials.units.E=-1"], "validation.cases (", "materials.units.E"),

@@ -382,7 +382,7 @@ def test_a_numerics_change_reruns_every_run_and_a_new_level_only_its_own(smoke, 
                                      + ["numerics.record_every=20"]}))
     planned = _planned(smoke, [str(extra)])
     assert planned.get("simulate") == 32 and planned.get("validation_run") == 1, planned
-    extra.write_text(yaml.safe_dump({"study": {"precompression_mpa": [0.0, 0.25, 0.5]}}))
+    extra.write_text(yaml.safe_dump({"study": {"levels": ["0 MPa", "0.25 MPa", "0.5 MPa"]}}))
     planned = _planned(smoke, [str(extra)])
     assert planned.get("simulate") == 16 and "validation_run" not in planned, planned
 
