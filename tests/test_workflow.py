@@ -434,3 +434,22 @@ def test_an_interrupted_run_resumes_with_what_is_missing(tmp_path):
     assert planned.get("simulate") == 32 - done, r.stdout[-2000:]
     assert subprocess.run(cmd, capture_output=True).returncode == 0
     assert len(pd.read_parquet(root / "study" / "runs.parquet")) == 32
+
+
+def test_a_further_study_gets_a_report_page_that_states_its_numbers(tmp_path):
+    """config further_studies: the NF study's committed tables become one
+    page of the report (statistics, then equations), and its caption gives
+    the non-spatial means and the equations as its statistics.csv and
+    equations.csv hold them."""
+    r = subprocess.run(SNAKEMAKE + [f"{tmp_path}/report/studies/nf.html", "--cores", "1",
+                                    "--config", f"results={tmp_path}"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
+    page = (tmp_path / "report" / "studies" / "nf.html").read_text()
+    caption = (tmp_path / "report" / "further_study_nf.rst").read_text()
+    st = pd.read_csv("results/studies/nf/study/statistics.csv")
+    eq = pd.read_csv("results/studies/nf/study/equations.csv")
+    assert page.count("<table") == 2 and page.count("</html>") == 1
+    assert page.count("<tr>") >= len(st) + len(eq)
+    for row in st[(st.variant == "nonspatial") & (st["mode"] == "all")].itertuples():
+        assert f"{row.sigma_v_mpa:g} MPa: {row.P_max_mean_kN:.2f} kN" in caption
+    assert eq.set_index("mode").equation["joint"] in caption

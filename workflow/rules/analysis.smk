@@ -100,3 +100,24 @@ rule tables:
         ENV
     script:
         "../scripts/tables.py"
+
+
+rule further_studies:
+    """Pages of the report for further studies (config further_studies),
+    from the tables their own workflow runs committed."""
+    input:
+        **{f"{n}_{t}": f"{s['results']}/study/{t}.csv" for n, s in FURTHER.items() for t in ("statistics", "equations")},
+        template=get_template("further_study"),
+    output:
+        **{f"{n}_page": report(f"{R}/report/studies/{n}.html", caption=get_caption(f"further_study_{n}"),
+                               category="Further studies", subcategory=s["title"]) for n, s in FURTHER.items()},
+        **{f"{n}_caption": get_caption_file(f"further_study_{n}") for n in FURTHER},
+    params:
+        studies=FURTHER,
+        code=get_code("further_studies"),
+    log:
+        f"{R}/logs/study/further_studies.log",
+    conda:
+        ENV
+    script:
+        "../scripts/further_studies.py"

@@ -168,6 +168,14 @@ if not config["study"].get("paper"):    # a study with no source to compare: no 
     del TABLES["paper_comparison"]
 
 
+# further studies shown in the report, each run on its own (config further_studies)
+FURTHER = config.get("further_studies", {})
+
+
+def get_further_outputs():
+    return [f"{R}/report/studies/{n}.html" for n in FURTHER]
+
+
 def get_study_outputs():
     names = ("statistics.csv", "correlations.csv", "increase.csv", "sampling_check.csv", "running_mean.png",
              "brick_share.png", "correlation_vs_sigma.png", "scatter_deviation.png", "curves_by_mode.png",
