@@ -10,7 +10,9 @@ import pandas as pd
 import pytest
 
 from masonrydem import accuracy, analysis, captions, figures, validation
+from masonrydem import equations as E
 from masonrydem.sampling import STUDY_VARIABLES, sampling_check
+from masonrydem.studyfile import input_means
 
 REPORT = Path(__file__).parent.parent / "workflow" / "report"
 
@@ -198,14 +200,15 @@ def test_design_table_and_caption():
     """One joint equation sigma = 0.1 + sigma_v (as the lower of two it
     stands for both): at the mean properties it is 0.1 + sigma_v; the
     caption reads the table at the simulated levels (0.25 MPa interpolated)."""
-    eq = dict(intercept=0.1, coef=dict(zip(analysis.FEATURES, [0.0, 0.0, 0.0, 0.0, 1.0])))
+    eq = dict(intercept=0.1, coef=dict(zip(E.FEATURES, [0.0, 0.0, 0.0, 0.0, 1.0])))
     ns = pd.DataFrame(dict(sample=[0, 1, 0, 1], f_tu_mpa=[3.0, 4.0, 3.0, 4.0], f_tj_mpa=[0.2, 0.4, 0.2, 0.4],
                            sigma_v_mpa=[0.0, 0.0, 0.5, 0.5], strength_mpa=[0.1, 0.1, 0.6, 0.6]))
     geometry = dict(l_o=0.115, h_b=0.086, c_ratio=1.5)
     design = validation.design_table({"joint": (eq, ns.strength_mpa.to_numpy())}, ns, 0.0, np.array([0.0, 0.5]),
                                    geometry)
     assert design.prediction.tolist() == pytest.approx([0.1, 0.6]) and design.band_sd.tolist() == [0.0, 0.0]
-    f_tu, f_tj = analysis.mean_strengths()
+    means = input_means(STUDY_VARIABLES)
+    f_tu, f_tj = means["f_tu"], means["f_tj"]
     assert (f_tu, f_tj) == pytest.approx((3.75, 0.3))
     assert design.lg_stepped.iloc[0] == pytest.approx(1.5 * 0.3 * 0.115 / 0.086) and design.lg_brick.iloc[0] == 1.875
     simulated = pd.DataFrame({"mean": [0.35], "std": [0.05]}, index=pd.Index([0.25], name="sigma_v_mpa"))

@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from masonrydem import InputError, analysis, check, predict, protocol, specimen
+from masonrydem import InputError, check, equations, predict, protocol, specimen
 from masonrydem.scene import load_scene, model_size
 
 WILLIS = "config/scenes/willis.yaml"
@@ -77,13 +77,13 @@ def _synthetic(n=60, seed=1):
 @pytest.fixture(scope="module")
 def predictor():
     ns = _synthetic()
-    fits, _, _ = analysis.prediction_equations(ns)
+    fits, _, _ = equations.prediction_equations(ns)
     return predict.build(fits, ns, load_scene(WILLIS), source="synthetic runs")
 
 
 def test_predict_recovers_the_known_equations_and_the_load(predictor):
     f_tu, f_tj, sv = 5.0, 0.3, 0.2
-    p = predict.predict("5 MPa", "300 kPa", "0.2 N/mm^2", predictor)
+    p = predict.predict(predictor, f_tu="5 MPa", f_tj="300 kPa", sigma_v="0.2 N/mm^2")
     joint = JOINT["intercept"] + JOINT["f_tj"] * f_tj + JOINT["sigma_v"] * sv     # 1.85: the lower
     assert p.mode == "joint" and p.strength_mpa == pytest.approx(joint, rel=0.02)
     assert p.by_mode["brick"] == pytest.approx(BRICK["intercept"] + BRICK["f_tu"] * f_tu, rel=0.02)
@@ -96,7 +96,7 @@ def test_predict_recovers_the_known_equations_and_the_load(predictor):
 
 
 def test_predict_names_the_brick_mode_where_its_equation_is_lower(predictor):
-    p = predict.predict(2.5e6, 0.7e6, 0.5e6, predictor)
+    p = predict.predict(predictor, f_tu=2.5e6, f_tj=0.7e6, sigma_v=0.5e6)
     assert p.mode == "brick" and p.strength_mpa == pytest.approx(0.5 + 0.5 * 2.5, rel=0.02)
 
 
@@ -108,7 +108,7 @@ def test_predict_names_the_brick_mode_where_its_equation_is_lower(predictor):
 ])
 def test_predict_refuses_inputs_outside_the_fitted_range(predictor, args, option, words):
     with pytest.raises(InputError) as e:
-        predict.predict(*args, predictor)
+        predict.predict(predictor, predict.OPTIONS, **dict(zip(("f_tu", "f_tj", "sigma_v"), args)))
     assert e.value.field == option and words in e.value.reason
     assert "230 x 65 x 114 mm" in e.value.reason or e.value.field == "--ftj" and "length" in e.value.reason
 
@@ -123,3 +123,44 @@ def test_predict_on_the_command_line(tmp_path, predictor):
     assert r.returncode == 2 and "did you mean 5 MPa?" in r.stderr
     r = _cli("predict", "--ftu", "5 MPa", "--ftj", "0.3 MPa", "--sv", "0", "--study", str(tmp_path / "none.json"))
     assert r.returncode == 2 and "--study" in r.stderr
+
+
+def test_predict_refuses_a_missing_or_unknown_input(predictor):
+    with pytest.raises(InputError) as e:
+        predict.predict(predictor, f_tu="3.5 MPa", f_tj="0.25 MPa")
+    assert e.value.field == "sigma_v" and "missing" in e.value.reason
+    with pytest.raises(InputError) as e:
+        predict.predict(predictor, f_tu="3.5 MPa", f_tj="0.25 MPa", sigma_v=0, t="10 mm")
+    assert e.value.field == "t" and "no input 't'" in e.value.reason
+
+
+def test_predict_any_inputs_and_terms(tmp_path):
+    """Equations over other inputs and terms (a study file's regression:
+    a length in mm, a product term): the predictor takes each input in its
+    unit and evaluates the terms as fitted."""
+    rng = np.random.default_rng(3)
+    n = 40
+    t_mm, f_tj = rng.uniform(8.0, 14.0, n), rng.uniform(0.1, 0.8, n)
+    rows = [dict(sample=i, t_mm=t_mm[i], f_tj_mpa=f_tj[i], sigma_v_mpa=sv, failure_mode="joint",
+                 strength_mpa=0.1 + 0.02 * t_mm[i] + 6.0 * f_tj[i] * sv + 3.0 * f_tj[i])
+            for i in range(n) for sv in (0.1, 0.3, 0.5)]
+    ns = pd.DataFrame(rows)
+    terms, columns = ("t", "f_tj", "f_tj*sigma_v"), dict(t="t_mm", f_tj="f_tj_mpa", sigma_v="sigma_v_mpa")
+    fits, _, _ = equations.prediction_equations(ns, terms, columns)
+    eq = fits["joint"][0]
+    assert eq["coef"]["f_tj*sigma_v"] == pytest.approx(6.0, rel=0.02) and eq["coef"]["t"] == pytest.approx(0.02, rel=0.05)
+    p = predict.build(fits, ns, load_scene(WILLIS), "synthetic", columns, dict(t="m", f_tj="Pa", sigma_v="Pa"))
+    assert p["inputs"]["t"] == dict(unit="m", shown="mm", column="t_mm")
+    got = predict.predict(p, t="12 mm", f_tj="0.5 MPa", sigma_v="0.2 MPa")
+    assert got.strength_mpa == pytest.approx(0.1 + 0.24 + 0.6 + 1.5, rel=0.01)
+    assert got.inputs == dict(t=12.0, f_tj=0.5, sigma_v=0.2)
+    with pytest.raises(InputError) as e:
+        predict.predict(p, t=12, f_tj="0.5 MPa", sigma_v="0.2 MPa")
+    assert e.value.field == "t" and "did you mean 12 mm?" in e.value.reason
+    path = tmp_path / "predictor.json"
+    path.write_text(json.dumps(p))
+    r = _cli("predict", "--input", "t=12 mm", "--input", "f_tj=0.5 MPa", "--sv", "0.2 MPa", "--study", str(path))
+    assert r.returncode == 0, r.stderr
+    assert "t 12 mm, f_tj 0.5 MPa, sigma_v 0.2 MPa" in r.stdout
+    r = _cli("predict", "--input", "t=12", "--input", "f_tj=0.5 MPa", "--sv", "0.2 MPa", "--study", str(path))
+    assert r.returncode == 2 and "--input t" in r.stderr and "did you mean 12 mm?" in r.stderr

@@ -69,24 +69,26 @@ def test_smoke_prediction_equations(smoke):
     non-spatial run; and the design table's prediction at 0 MPa is the
     lower of the written equations at the mean strengths, its band
     sqrt(property_sd^2 + residual_sd^2)."""
-    from masonrydem import analysis as A
+    from masonrydem import equations as E
+    from masonrydem.sampling import STUDY_VARIABLES
+    from masonrydem.studyfile import input_means
     eq = pd.read_csv(smoke / "study" / "equations.csv").set_index("mode")
     runs = pd.read_parquet(smoke / "study" / "runs.parquet")
     ns = runs[runs.ok & (runs.variant == "nonspatial")]
     fitted = eq[eq.alpha.notna()]
     assert len(fitted) >= 1
-    equations = {m: dict(intercept=r.intercept, coef={k: r[k] for k in A.FEATURES}) for m, r in fitted.iterrows()}
+    equations = {m: dict(intercept=r.intercept, coef={k: r[k] for k in E.FEATURES}) for m, r in fitted.iterrows()}
     for mode, e in equations.items():
         g = ns[ns.failure_mode == mode]
-        assert A.mape(g.strength_mpa, A.predict(e, g.f_tu_mpa, g.f_tj_mpa, g.sigma_v_mpa)) == pytest.approx(
-            eq.loc[mode, "mape_pct"], rel=1e-4), mode
+        predicted = E.predict(e, E.inputs_of(g))
+        assert E.mape(g.strength_mpa, predicted) == pytest.approx(eq.loc[mode, "mape_pct"], rel=1e-4), mode
     joint, brick = equations.get("joint", equations.get("brick")), equations.get("brick", equations.get("joint"))
-    low, _ = A.lower_of_two(joint, brick, ns.f_tu_mpa, ns.f_tj_mpa, ns.sigma_v_mpa)
+    low, _ = E.lower_of_two(joint, brick, E.inputs_of(ns))
     assert eq.loc["lower of two", "n"] == len(ns)
-    assert A.mape(ns.strength_mpa, low) == pytest.approx(eq.loc["lower of two", "mape_pct"], rel=1e-4)
+    assert E.mape(ns.strength_mpa, low) == pytest.approx(eq.loc["lower of two", "mape_pct"], rel=1e-4)
     design = pd.read_csv(smoke / "study" / "design_comparison.csv").set_index("sigma_v_mpa")
-    f_tu, f_tj = A.mean_strengths()
-    at_mean, _ = A.lower_of_two(joint, brick, [f_tu], [f_tj], [0.0])
+    means = input_means(STUDY_VARIABLES)
+    at_mean, _ = E.lower_of_two(joint, brick, dict(f_tu=[means["f_tu"]], f_tj=[means["f_tj"]], sigma_v=[0.0]))
     assert design.loc[0.0, "prediction"] == pytest.approx(at_mean[0], rel=1e-4)
     np.testing.assert_allclose(design.band_sd, np.hypot(design.property_sd, eq.loc["lower of two", "residual_sd_mpa"]),
                                rtol=1e-4)

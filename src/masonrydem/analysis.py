@@ -12,10 +12,6 @@ import warnings
 import numpy as np
 import pandas as pd
 from scipy.stats import DegenerateDataWarning, bootstrap
-from sklearn.linear_model import LassoCV
-from sklearn.model_selection import GroupKFold
-from sklearn.pipeline import make_pipeline
-from sklearn.preprocessing import StandardScaler
 
 from .sampling import STUDY_VARIABLES
 
@@ -25,7 +21,6 @@ INPUTS = ("f_tj_mpa", "f_tu_mpa", "phi_j_deg", "E_b_mpa")
 # the means of their distributions (docs/study.md, 6) in the units of the runs table
 _COLUMN = {"f_tj": ("f_tj_mpa", 1e-6), "f_tu": ("f_tu_mpa", 1e-6), "phi_j": ("phi_j_deg", 1.0), "E_b": ("E_b_mpa", 1e-6)}
 INPUT_MEANS = {_COLUMN[v.name][0]: v.mean * _COLUMN[v.name][1] for v in STUDY_VARIABLES}
-FEATURES = ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v")
 
 
 def check_one_solver(runs):
@@ -122,95 +117,6 @@ def input_spread(runs, variant, inputs=INPUTS):
 def normalised_deviation(x, mean):
     """(x - mean) / mean."""
     return (np.asarray(x, float) - mean) / mean
-
-
-# --- prediction equations -------------------------------------------------------
-def features(f_tu, f_tj, sigma_v):
-    """Feature matrix (f_tu, f_tj, f_tu^2, f_tj^2, sigma_v), MPa."""
-    f_tu, f_tj, sigma_v = (np.asarray(a, float) for a in (f_tu, f_tj, sigma_v))
-    return np.column_stack([f_tu, f_tj, f_tu ** 2, f_tj ** 2, sigma_v])
-
-
-MIN_GROUPS = 7   # nested 5-fold CV: each inner fit needs 5 groups of the outer 4/5
-
-
-def _lasso(X, y, groups):
-    """Standardised features, Lasso with the penalty chosen by 5-fold
-    cross-validation on the MSE, folds made of whole groups.  Coordinate
-    descent to a duality gap of 1e-10 (scikit-learn's default, 1e-4, left
-    the study's coefficients up to 8 % from the optimum at the chosen
-    penalty, f_tu and f_tu^2 being nearly collinear: tests/test_regression.py
-    checks the optimality conditions)."""
-    cv = list(GroupKFold(5).split(X, y, groups))
-    return make_pipeline(StandardScaler(), LassoCV(cv=cv, max_iter=1_000_000, tol=1e-10)).fit(X, y)
-
-
-def fit_equation(f_tu, f_tj, sigma_v, strength, groups, nested=True):
-    """Lasso regression of the strength (MPa) on the features, the penalty
-    chosen by 5-fold cross-validation on the mean squared error
-    (scikit-learn LassoCV, features standardised).  ``groups``: the sample
-    of each run; folds hold whole samples, because one sample's runs at
-    the other precompression levels share its properties and would let a
-    fold see the wallette it is tested on.  At least MIN_GROUPS samples.
-
-    Returns a dict with the intercept and coefficients in original units,
-    the chosen alpha, the fitted values and their MAPE (%), and the
-    out-of-fold predictions and their MAPE (``cv_mape``): each run
-    predicted by the equation fitted, penalty chosen included, on the
-    other four fifths of the samples (nested cross-validation), which is
-    the error to expect on a wallette the fit has not seen (left out,
-    NaN, with ``nested=False``)."""
-    X = features(f_tu, f_tj, sigma_v)
-    y = np.asarray(strength, float)
-    groups = np.asarray(groups)
-    if np.unique(groups).size < MIN_GROUPS:
-        raise ValueError(f"{np.unique(groups).size} samples: nested 5-fold CV needs at least {MIN_GROUPS}")
-    fit = _lasso(X, y, groups)
-    scaler, lasso = fit[0], fit[1]
-    coef = lasso.coef_ / scaler.scale_
-    intercept = float(lasso.intercept_ - np.sum(coef * scaler.mean_))
-    fitted = fit.predict(X)
-    oof = np.full_like(y, np.nan)
-    for train, test in GroupKFold(5).split(X, y, groups) if nested else ():
-        oof[test] = _lasso(X[train], y[train], groups[train]).predict(X[test])
-    return dict(intercept=intercept, coef=dict(zip(FEATURES, (coef + 0.0).tolist())), alpha=float(lasso.alpha_),
-                mape=mape(y, fitted), fitted=fitted, cv_mape=mape(y, oof), cv_predicted=oof, n=int(y.size))
-
-
-def predict(eq, f_tu, f_tj, sigma_v):
-    return eq["intercept"] + features(f_tu, f_tj, sigma_v) @ np.array([eq["coef"][k] for k in FEATURES])
-
-
-def mape(y, yhat):
-    """Mean absolute percentage error (%)."""
-    y, yhat = np.asarray(y, float), np.asarray(yhat, float)
-    return float(100.0 * np.mean(np.abs((yhat - y) / y)))
-
-
-def equation_text(eq):
-    terms = " ".join(f"{'+' if c >= 0 else '-'} {abs(c):.4g} {k}" for k, c in eq["coef"].items() if c != 0)
-    return f"sigma = {eq['intercept']:.4g} {terms}  (MPa)"
-
-
-def lower_of_two(eq_joint, eq_brick, f_tu, f_tj, sigma_v):
-    """Predicted capacity: the lower of the two equations; the predicted
-    mode is that of the lower one.  Returns (strength, mode array)."""
-    j = predict(eq_joint, f_tu, f_tj, sigma_v)
-    b = predict(eq_brick, f_tu, f_tj, sigma_v)
-    return np.minimum(j, b), np.where(j <= b, "joint", "brick")
-
-
-def prediction_over_samples(eq_joint, eq_brick, f_tu, f_tj, levels):
-    """Mean and standard deviation, at each precompression of ``levels``,
-    of the lower-of-two prediction over the property samples (f_tu, f_tj).
-    The standard deviation is the scatter of the capacity that the scatter
-    of the strengths causes, through the equations.  The mean is the mean
-    capacity; it lies at or below the prediction at the mean properties,
-    because the lower of two linear functions is concave (Jensen's
-    inequality), most where the two equations cross."""
-    f_tu, f_tj = np.asarray(f_tu, float), np.asarray(f_tj, float)
-    low = np.array([lower_of_two(eq_joint, eq_brick, f_tu, f_tj, np.full_like(f_tu, sv))[0] for sv in levels])
-    return low.mean(axis=1), low.std(axis=1, ddof=1)
 
 
 # --- confidence intervals (docs/study.md, 16) ----------------------------------------
@@ -318,83 +224,8 @@ def study_tables(runs, resamples, seed, inputs=INPUTS):
             increase(st, runs.sigma_v_mpa.min(), runs.sigma_v_mpa.max()).merge(pd.DataFrame(inc), how="left"))
 
 
-EQUATION_TERMS = ("intercept",) + FEATURES + ("mape_pct",)
-
-
-def equation_intervals(ns, resamples, seed, progress=None):
-    """95 % bootstrap intervals (``bootstrap_interval``, whole samples
-    resampled) of the prediction equations of ``prediction_equations``:
-    per mode the intercept, the coefficients and the MAPE of the fit
-    (each resample refits, penalty chosen by cross-validation included;
-    the nested cross-validation is left out), and the lower-of-two MAPE.
-    NaN where a resample leaves a mode too few samples to fit.  Returns a
-    frame with the column mode and <term>_lo, <term>_hi."""
-    samples = np.sort(ns["sample"].unique())
-    by_sample = [ns[ns["sample"] == s] for s in samples]
-
-    def one(idx):
-        fits, rows, _ = prediction_equations(pd.concat([by_sample[i] for i in idx]), nested=False)
-        rows = {r["mode"]: r for r in rows}
-        return [rows.get(m, {}).get(t, np.nan) for m in ("joint", "brick") for t in EQUATION_TERMS] + \
-            [rows.get("lower of two", {}).get("mape_pct", np.nan)]
-
-    def statistic(idx):
-        out = []
-        for k, i in enumerate(idx):
-            out.append(one(i))
-            if progress and (k + 1) % 100 == 0:
-                progress(k + 1, len(idx))
-        return np.array(out, float).T
-    lo, hi = bootstrap_interval(samples.size, statistic, resamples, seed)
-    n = len(EQUATION_TERMS)
-    rows = [dict(mode=m, **{f"{t}_{e}": b[k * n + j] for j, t in enumerate(EQUATION_TERMS)
-                            for e, b in (("lo", lo), ("hi", hi))}) for k, m in enumerate(("joint", "brick"))]
-    return pd.DataFrame(rows + [dict(mode="lower of two", mape_pct_lo=lo[-1], mape_pct_hi=hi[-1])])
-
-
 # --- the prediction against the simulations and the design rules -------------------
 def scatter_level(runs, near=0.25):
     """The precompression level of the scatter plot: the one nearest ``near`` MPa."""
     levels = np.sort(runs.sigma_v_mpa.unique())
     return levels[np.argmin(np.abs(levels - near))]
-
-
-def prediction_equations(ns, nested=True):
-    """Per failure mode, the equation fitted to the runs ``ns`` (the ok
-    non-spatial runs) when they span MIN_GROUPS samples; then the
-    predictor, the lower of the two (with one equation it stands for both),
-    scored on every run of ``ns``.  Returns (fits, rows, residual_sd):
-    mode -> (equation, simulated strengths); the equations table's rows;
-    the standard deviation of the predictor's residuals (MPa)."""
-    fits, rows = {}, []
-    for mode in ("joint", "brick"):
-        g = ns[ns.failure_mode == mode]
-        if g["sample"].nunique() < MIN_GROUPS:
-            rows.append(dict(mode=mode, n=len(g), equation=f"too few runs to fit ({g['sample'].nunique()} samples, "
-                                                              f"the nested 5-fold CV needs {MIN_GROUPS})"))
-            continue
-        eq = fit_equation(g.f_tu_mpa, g.f_tj_mpa, g.sigma_v_mpa, g.strength_mpa, g["sample"], nested=nested)
-        fits[mode] = (eq, g.strength_mpa.to_numpy())
-        rows.append(dict(mode=mode, n=eq["n"], alpha=eq["alpha"], mape_pct=eq["mape"], cv_mape_pct=eq["cv_mape"],
-                         intercept=eq["intercept"], **eq["coef"], equation=equation_text(eq)))
-    resid_sd = np.nan
-    if fits:
-        low, low_mode = lower_of_two(*joint_and_brick(fits), ns.f_tu_mpa, ns.f_tj_mpa, ns.sigma_v_mpa)
-        resid_sd = float(np.std(ns.strength_mpa - low, ddof=1))
-        rows.append(dict(mode="lower of two", n=len(ns), mape_pct=mape(ns.strength_mpa, low),
-                         mode_agreement=float(np.mean(low_mode == ns.failure_mode.to_numpy())),
-                         residual_sd_mpa=resid_sd,
-                         equation="min(joint, brick)" if len(fits) == 2 else f"the {next(iter(fits))} equation alone"))
-    return fits, rows, resid_sd
-
-
-def joint_and_brick(fits):
-    """The joint and the brick equation; with one, it stands for both."""
-    eqs = {m: e for m, (e, _) in fits.items()}
-    return eqs.get("joint", eqs.get("brick")), eqs.get("brick", eqs.get("joint"))
-
-
-def mean_strengths():
-    """f_tu and f_tj (MPa) at the means of their distributions."""
-    mean = {v.name: v.mean for v in STUDY_VARIABLES}
-    return mean["f_tu"] / 1e6, mean["f_tj"] / 1e6

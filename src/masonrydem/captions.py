@@ -10,6 +10,8 @@ import pandas as pd
 
 from . import accuracy
 from . import analysis as A
+from .sampling import STUDY_VARIABLES
+from .studyfile import input_means
 
 ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
 
@@ -241,12 +243,13 @@ def equations(rows):
     return dict(lines=_bullets(lines))
 
 
-def design_comparison(design, simulated, fitted, resid_sd, n_samples, geometry):
+def design_comparison(design, simulated, fitted, resid_sd, n_samples, geometry, means=None):
     """The design comparison (validation.design_table) at the simulated
     levels (``simulated``: mean and std of the strength by sigma_v_mpa);
     ``fitted``: the modes with an equation; ``resid_sd``: the predictor's
     residual scatter (MPa); ``n_samples``: the sampled property sets;
-    ``geometry``: validation.wallette_geometry."""
+    ``geometry``: validation.wallette_geometry; ``means``: the variables'
+    means (studyfile.input_means; the Willis study's by default)."""
     lines = []
     for sv in simulated.index:
         at = {k: float(np.interp(sv, design.sigma_v_mpa, design[k])) for k in design.columns}
@@ -256,7 +259,8 @@ def design_comparison(design, simulated, fitted, resid_sd, n_samples, geometry):
                      f"**{at['mean_over_samples']:.3f} MPa** on average over the samples; Lourenco-Gaetani stepped "
                      f"{at['lg_stepped']:.3f} / brick {at['lg_brick']:.3f} MPa; AS3700 stepped "
                      f"{at['as3700_stepped']:.3f} / line {at['as3700_line']:.3f} MPa")
-    f_tu, f_tj = A.mean_strengths()
+    means = input_means(STUDY_VARIABLES) if means is None else means
+    f_tu, f_tj = means["f_tu"], means["f_tj"]
     return dict(f_tu=f_tu, f_tj=f_tj, resid=resid_sd, n_samples=n_samples, l_o=1e3 * geometry["l_o"],
                 h_b=1e3 * geometry["h_b"], c_ratio=geometry["c_ratio"], lines=_bullets(lines),
                 equations=("the joint and brick equations" if len(fitted) == 2 else

@@ -5,6 +5,7 @@ user, the study's jobs and the workflow's runs alike.
       [--samples FILE --sample N --variant V] [--format parquet|json] [--exit-zero]
   masonrydem check SCENE.yaml [--set path.to.key=value ...]
   masonrydem predict --ftu "3.5 MPa" --ftj "0.25 MPa" --sv "0.1 MPa" [--study predictor.json]
+  masonrydem predict --input NAME=VALUE ... [--study predictor.json]
 
 ``check`` validates a scene and estimates its run (check.py) without
 building anything; ``predict`` evaluates a study's prediction equations
@@ -181,9 +182,19 @@ def _check(args):
 
 
 def _predict(args):
-    """``predict``: a study's equations at the given strengths and precompression."""
-    from .predict import predict
-    print("\n".join(predict(args.ftu, args.ftj, args.sv, args.study).lines()))
+    """``predict``: a study's equations at the given inputs."""
+    from .errors import InputError
+    from .predict import OPTIONS, predict
+    inputs, options = {}, {}
+    for name, option in OPTIONS.items():
+        if getattr(args, option[2:]) is not None:
+            inputs[name], options[name] = getattr(args, option[2:]), option
+    for text in args.input:
+        name, eq, value = text.partition("=")
+        if not eq or not name.strip():
+            raise InputError("--input", f"{text!r} is not NAME=VALUE (such as f_tu='3.5 MPa')")
+        inputs[name.strip()], options[name.strip()] = value, f"--input {name.strip()}"
+    print("\n".join(predict(args.study, options, **inputs).lines()))
     return 0
 
 
@@ -215,8 +226,10 @@ def parser():
                                           "95 %% prediction interval")
     for name, what in (("--ftu", "the units' tensile strength f_tu"), ("--ftj", "the joints' tensile bond f_tj"),
                        ("--sv", "the precompression sigma_v")):
-        pred.add_argument(name, required=True, help=f"{what}, a stress with its unit, e.g. '3.5 MPa' (a plain "
-                                                    "number is Pa)")
+        pred.add_argument(name, help=f"{what}, a stress with its unit, e.g. '3.5 MPa' (a plain number is Pa)")
+    pred.add_argument("--input", action="append", default=[], metavar="NAME=VALUE",
+                      help="any input of the study's equations by its name in the study file, e.g. "
+                           "--input t='10 mm' (a plain number is SI)")
     pred.add_argument("--study", default="results/study/predictor.json",
                       help="the study's predictor (default results/study/predictor.json)")
     return p

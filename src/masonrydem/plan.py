@@ -143,6 +143,16 @@ def study_levels(config):
     return [level / 1e6 for level in study(config).levels]
 
 
+def regression(config):
+    """What the study's analysis needs of its study file: the equations'
+    terms, each input's column in the runs table, the swept setting's name
+    and column, the variables' means (in the columns' units), each input's
+    SI unit."""
+    st = study(config)
+    return dict(terms=list(st.features), columns=st.columns(), level=st.sweep_name, level_column=st.level_column(),
+                means=st.means(), units=dict(st.units))
+
+
 def study_variants(config):
     return list(study(config).variants)
 

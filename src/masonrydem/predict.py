@@ -3,8 +3,10 @@
 
 The study's regression (workflow/scripts/regression.py) writes a
 predictor file (results/study/predictor.json): the Lasso equation of each
-failure mode (strength in MPa of f_tu, f_tj and sigma_v in MPa), the range
-of the inputs they were fitted on, the wallette they hold for (its
+failure mode (the strength in MPa; for the Willis study a function of f_tu,
+f_tj and sigma_v in MPa, in general of the terms the study file names),
+the inputs the equations use with their units, the range of each they were
+fitted on, the wallette they hold for (its
 section, thickness and shear span, to turn a strength into a load), and
 each equation's out-of-fold residuals, as simulated over predicted
 strength: the error on a wallette the fit had not seen (nested 5-fold
@@ -22,18 +24,26 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import InputError
-from .quantities import is_plain, meant, to_si
+from .quantities import is_plain, meant, shown, to_shown, to_si
 
 ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
 
-INPUTS = (("f_tu", "--ftu", "f_tu_mpa"), ("f_tj", "--ftj", "f_tj_mpa"), ("sigma_v", "--sv", "sigma_v_mpa"))
+# the command line's short options of the Willis study's inputs (any input: --input NAME=VALUE)
+OPTIONS = {"f_tu": "--ftu", "f_tj": "--ftj", "sigma_v": "--sv"}
+WILLIS_UNITS = {"f_tu": "Pa", "f_tj": "Pa", "phi_j": "deg", "E_b": "Pa", "sigma_v": "Pa"}
 
 
-def build(fits, ns, scene, source):
-    """The predictor of the fitted equations ``fits`` (analysis.
+def build(fits, ns, scene, source, columns=None, units=None):
+    """The predictor of the fitted equations ``fits`` (equations.
     prediction_equations: mode -> (equation, strengths)) on the runs
     ``ns``, for the wallette of the typed ``scene``; ``source``: where the
-    runs came from (named in the printout)."""
+    runs came from (named in the printout); ``columns`` and ``units``: each
+    input's column in ``ns`` and its SI unit (Study.columns, Study.units;
+    the Willis study's by default)."""
+    from .equations import COLUMNS
+    from .studyfile import parse_term
+    columns, units = columns or COLUMNS, units or WILLIS_UNITS
+    used = dict.fromkeys(name for eq, _ in fits.values() for term in eq["coef"] for name, _ in parse_term(term, units))
     g, bend = scene.geometry, scene.loading.bending
     modes = {}
     for mode, (eq, _) in fits.items():
@@ -43,7 +53,8 @@ def build(fits, ns, scene, source):
                            ratio_q025=float(np.quantile(ratio, 0.025)), ratio_q975=float(np.quantile(ratio, 0.975)))
     return dict(
         source=source, scene=scene.name, modes=modes,
-        fitted_range={name: [float(ns[col].min()), float(ns[col].max())] for name, _, col in INPUTS},
+        inputs={name: dict(unit=units[name], shown=shown(units[name])[0], column=columns[name]) for name in used},
+        fitted_range={name: [float(ns[columns[name]].min()), float(ns[columns[name]].max())] for name in used},
         wallette=dict(courses=g.courses, units_per_course=g.units_per_course,
                       unit_mm=[g.unit_length * 1e3, g.unit_height * 1e3, g.unit_width * 1e3],
                       joint_mm=g.joint_thickness * 1e3, section_height_m=bend.section_height,
@@ -51,8 +62,8 @@ def build(fits, ns, scene, source):
 
 
 def _value(eq, x):
-    from .analysis import predict as evaluate
-    return float(evaluate(eq, *x).item())
+    from .equations import predict as evaluate
+    return float(evaluate(eq, x).item())
 
 
 @dataclass(frozen=True)
@@ -63,7 +74,8 @@ class Prediction:
     load_kN: float              # P: the total of the two line loads
     interval_kN: tuple
     by_mode: dict               # mode -> strength (MPa)
-    inputs_mpa: tuple           # f_tu, f_tj, sigma_v
+    inputs: dict                # input -> its value in the unit shown (MPa, mm, deg)
+    units: dict                 # input -> that unit
     wallette: dict
     source: str
 
@@ -72,7 +84,7 @@ class Prediction:
         out = [f"the equations of {self.source}, for the wallette they were fitted on: {_wallette(w)}; section "
                f"b = {w['section_height_m']:g} m, thickness h = {w['thickness_m']:g} m, shear span a = "
                f"{w['shear_span_m']:.4g} m (sigma = 6 M / (b h^2), M = P a / 2)",
-               "  f_tu {:g} MPa, f_tj {:g} MPa, sigma_v {:g} MPa".format(*self.inputs_mpa)]
+               "  " + ", ".join(f"{k} {v:g} {self.units[k]}".rstrip() for k, v in self.inputs.items())]
         out += [f"  {m} failure: {s:.3f} MPa" for m, s in self.by_mode.items()]
         lo, hi = self.interval_mpa
         out.append(f"governing: {self.mode} failure, strength {self.strength_mpa:.3f} MPa (95 % prediction interval "
@@ -97,25 +109,20 @@ def load(path):
         raise InputError("--study", f"{path} is not a predictor file: {e}") from None
 
 
-def predict(f_tu, f_tj, sigma_v, study="results/study/predictor.json"):
-    """The prediction at the strengths f_tu, f_tj and the precompression
-    sigma_v (quantities such as '3.5 MPa', or numbers in Pa); ``study``: a
-    predictor file or its mapping (build)."""
+def predict(study="results/study/predictor.json", options=None, **inputs):
+    """The prediction at the ``inputs`` the equations use (for the Willis
+    study f_tu, f_tj and sigma_v; quantities such as '3.5 MPa', or numbers
+    in SI); ``study``: a predictor file or its mapping (build);
+    ``options``: input -> how the caller named it (in errors; the input's
+    name by default)."""
     p = load(study) if isinstance(study, str) else study
     source = p["source"] if isinstance(study, dict) else f"{study} ({p['source']})"
-    x = []
-    for (name, option, _), value in zip(INPUTS, (f_tu, f_tj, sigma_v)):
-        mpa = to_si(value, "Pa", option) / 1e6
-        lo, hi = p["fitted_range"][name]
-        if not lo <= mpa <= hi:
-            plain = is_plain(value)
-            guess = meant(float(value), "Pa", lo * 1e6, hi * 1e6) if plain else None
-            raise InputError(option, f"{f'{float(value):g} Pa' if plain else value} is outside the range "
-                             f"the equations were fitted on, {lo:.3g} to {hi:.3g} MPa"
-                             + (f": did you mean {guess}?" if guess else "")
-                             + f" (they hold only there, and only for the wallette of the scene {p['scene']!r}: "
-                             f"{_wallette(p['wallette'])})")
-        x.append(mpa)
+    options = options or {}
+    unknown = sorted(set(inputs) - set(p["inputs"]))
+    if unknown:
+        raise InputError(options.get(unknown[0], unknown[0]), f"the equations have no input {unknown[0]!r}: they "
+                                                               f"take {', '.join(p['inputs'])}")
+    x = {name: _checked(p, name, spec, inputs, options.get(name, name)) for name, spec in p["inputs"].items()}
     by_mode = {m: _value(eq, x) for m, eq in p["modes"].items()}
     mode = min(by_mode, key=by_mode.get)
     s, eq = by_mode[mode], p["modes"][mode]
@@ -123,5 +130,25 @@ def predict(f_tu, f_tj, sigma_v, study="results/study/predictor.json"):
     to_kN = w["section_height_m"] * w["thickness_m"] ** 2 / 6.0 / (0.5 * w["shear_span_m"]) * 1e3  # MPa -> kN
     interval = (s * eq["ratio_q025"], s * eq["ratio_q975"])
     return Prediction(strength_mpa=s, mode=mode, interval_mpa=interval, load_kN=s * to_kN,
-                      interval_kN=tuple(v * to_kN for v in interval), by_mode=by_mode, inputs_mpa=tuple(x),
+                      interval_kN=tuple(v * to_kN for v in interval), by_mode=by_mode, inputs=x,
+                      units={k: spec["shown"] for k, spec in p["inputs"].items()},
                       wallette=w, source=source)
+
+
+def _checked(p, name, spec, inputs, option):
+    """The input ``name`` in the unit shown, refused outside the fitted range."""
+    if name not in inputs:
+        raise InputError(option, f"missing: the equations take {', '.join(p['inputs'])}")
+    value, unit = inputs[name], spec["unit"]
+    x = to_shown(to_si(value, unit, option), unit)
+    lo, hi = p["fitted_range"][name]
+    if not lo <= x <= hi:
+        plain = is_plain(value)
+        size = shown(unit)[1]
+        guess = meant(float(value), unit, lo * size, hi * size) if plain else None
+        raise InputError(option, f"{f'{float(value):g} {unit}'.rstrip() if plain else value} is outside the range "
+                                 f"the equations were fitted on, {lo:.3g} to {hi:.3g} {spec['shown']}".rstrip()
+                         + (f": did you mean {guess}?" if guess else "")
+                         + f" (they hold only there, and only for the wallette of the scene {p['scene']!r}: "
+                         f"{_wallette(p['wallette'])})")
+    return x

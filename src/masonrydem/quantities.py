@@ -26,6 +26,26 @@ MEANT = {"Pa": ("MPa", "kPa", "GPa"), "m": ("mm", "cm", "um"), "N/m": ("N/mm",),
          "kg/m^3": ("t/m^3",)}
 
 
+# the unit a results table reports a quantity of each SI unit in: (its text,
+# its size in SI, the suffix of a column's name: f_tj_mpa, t_mm)
+SHOWN = {"Pa": ("MPa", 1e6, "mpa"), "m": ("mm", 1e-3, "mm"), "N/m": ("N/mm", 1e3, "n_mm"),
+         "kg/m^3": ("kg/m^3", 1.0, "kg_m3"), "deg": ("deg", 1.0, "deg"), "": ("", 1.0, "")}
+
+
+def shown(unit):
+    """(text, size in SI, column suffix) of the unit a results table
+    reports a quantity of the SI unit ``unit`` in."""
+    return SHOWN.get(unit, (unit, 1.0, unit.replace("/", "_").replace("^", "").lower()))
+
+
+def to_shown(value, unit):
+    """An SI value of the unit ``unit`` in the unit results show it in
+    (Pa as MPa: value / 1e6, as the runs table's columns have it; m as mm:
+    value * 1000)."""
+    size = shown(unit)[1]
+    return value / size if size >= 1 else value * round(1 / size)
+
+
 @lru_cache(maxsize=None)
 def registry():
     """pint's unit registry in decimal arithmetic (loaded on first use)."""

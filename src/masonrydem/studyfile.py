@@ -19,7 +19,7 @@ from jsonschema import Draft202012Validator
 
 from .errors import InputError, check_finite
 from .inputs import read_scene, read_yaml, set_value
-from .quantities import schema_at, to_si
+from .quantities import schema_at, shown, to_shown, to_si
 from .sampling import Variable
 from .scene import SCHEMA as SCENE_SCHEMA
 from .scene import validate_scene
@@ -42,10 +42,29 @@ class Study:
     rules: dict                # dotted scene setting -> value
     sweep_setting: str
     levels: tuple              # SI
-    features: tuple
+    features: tuple            # terms: products of inputs' powers ('f_tu^2', 'f_tj*sigma_v')
+    sweep_name: str = "sigma_v"
+    units: dict = None         # input (a variable or the sweep's name) -> its SI unit
 
     def variable(self, name):
         return next(v for v in self.variables if v.name == name)
+
+    def column(self, name):
+        """The runs table's column of an input (a variable, or the swept
+        setting by its name): the name and the unit it is shown in,
+        f_tj_mpa, sigma_v_mpa, t_mm."""
+        suffix = shown(self.units[name])[2]
+        return f"{name}_{suffix}" if suffix else name
+
+    def columns(self):
+        """Input -> its column, the variables' and the sweep's."""
+        return {name: self.column(name) for name in self.units}
+
+    def level_column(self):
+        return self.column(self.sweep_name)
+
+    def means(self):
+        return input_means(self.variables)
 
     def per(self, what):
         """The variables carried per unit or per joint, in the file's order."""
@@ -128,12 +147,19 @@ def _typed(raw):
     sweep = raw["sweep"]
     unit = _unit(sweep["setting"], "sweep.setting")
     levels = tuple(to_si(x, unit, f"sweep.levels.{i}") for i, x in enumerate(sweep["levels"]))
-    features = tuple((raw.get("regression") or {}).get("features", ()))
+    sweep_name = sweep.get("name", sweep["setting"].rsplit(".", 1)[-1])
+    if sweep_name in names:
+        raise InputError("sweep.name", f"{sweep_name!r} is a variable's name too: name the sweep otherwise")
+    units = {**{v.name: _unit(v.setting, f"variables.{v.name}.setting") for v in variables}, sweep_name: unit}
+    features = tuple((raw.get("regression") or {}).get("features", units))     # each input, linear
+    for i, term in enumerate(features):
+        _fail_prefixed_at(f"regression.features.{i}", lambda: parse_term(term, units))
     rules = {k: (to_si(v, _unit(k, f"rules.{k}"), f"rules.{k}") if schema_at(SCENE_SCHEMA, k) else v)
              for k, v in raw.get("rules", {}).items()}
     study = Study(name=raw["name"], scene=raw["scene"], samples=raw["samples"], seed=raw["seed"], variables=variables,
                   correlations=correlations, variants=variants, rules=rules,
-                  sweep_setting=sweep["setting"], levels=levels, features=features)
+                  sweep_setting=sweep["setting"], levels=levels, features=features,
+                  sweep_name=sweep_name, units=units)
     _check_against_scene(study)
     return study
 
@@ -173,6 +199,35 @@ def with_levels(study, levels, field):
         except InputError as e:
             raise InputError(f"{field}.{i}", e.reason) from None
     return replace(study, levels=si)
+
+
+def input_means(variables):
+    """Each variable's mean (its distribution's, for a uniform one) in the
+    unit the runs table shows it in."""
+    return {v.name: to_shown(v.mean if v.mean is not None else v.frozen().mean(), _unit(v.setting, v.name))
+            for v in variables}
+
+
+def parse_term(term, inputs):
+    """A regression feature as its factors ((input, power), ...): 'f_tu',
+    'f_tu^2', 'f_tj*sigma_v' over the names of ``inputs`` (the study's
+    variables and its sweep); ValueError says what is wrong."""
+    factors = []
+    for part in term.replace(" ", "").split("*"):
+        name, _, power = part.partition("^")
+        if name not in inputs:
+            raise ValueError(f"{name!r} in {term!r} is not an input: {', '.join(inputs)}")
+        if power and not (power.isdigit() and 1 <= int(power) <= 4):
+            raise ValueError(f"the power in {part!r} must be a whole number from 1 to 4")
+        factors.append((name, int(power or 1)))
+    return tuple(factors)
+
+
+def _fail_prefixed_at(field, fn):
+    try:
+        return fn()
+    except ValueError as e:
+        raise InputError(field, str(e)) from None
 
 
 def _fail_scene(field, fn):

@@ -48,6 +48,7 @@ rule regression:
     params:
         code=get_code("regression"),
         bootstrap=config["study"]["bootstrap"],
+        regression=plan.regression(config),
     log:
         f"{R}/logs/study/regression.log",
     conda:
