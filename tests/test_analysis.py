@@ -162,7 +162,7 @@ def test_one_solver_version():
                              solver_version=["0.1.0+aaa", "0.1.0+aaa", None, "0.1.0+aaa"]))
     assert A.check_one_solver(runs) == "0.1.0+aaa"
     runs.loc[1, "solver_version"] = "0.1.0+bbb"
-    with pytest.raises(ValueError, match=r"spatial/sv0.15/s1 \(0.1.0\+bbb\)"):
+    with pytest.raises(ValueError, match=r"spatial/0.15 MPa/s1 \(0.1.0\+bbb\)"):
         A.check_one_solver(runs)
 
 
@@ -184,9 +184,12 @@ def test_input_spread():
     assert cov["f_tu_mpa"] == 0.0 and A.input_spread(runs, "b")["f_tj_mpa"] == 0.0 and A.input_spread(runs, "c") == {}
 
 
-def test_scatter_level_is_the_nearest_to_a_quarter_MPa():
-    """The scatter plot's level: the study's level nearest 0.25 MPa, itself;
-    between levels, the nearer one."""
+def test_scatter_level_is_the_nearest_to_the_middle_of_the_range():
+    """The scatter plot's level: the study's level nearest the middle of
+    its range (0.25 MPa of 0 to 0.5), itself; between levels, the nearer
+    one; any swept setting by its column."""
     runs = pd.DataFrame(dict(sigma_v_mpa=[0.5, 0.0, 0.15, 0.25, 0.075]))
     assert A.scatter_level(runs) == 0.25
+    t = A.Level("t_mm", "t", "mm")
+    assert A.scatter_level(pd.DataFrame(dict(t_mm=[8.0, 10.0, 11.0, 16.0])), level=t) == 11.0
     assert A.scatter_level(runs, near=0.11) == 0.075 and A.scatter_level(runs, near=0.4) == 0.5

@@ -104,11 +104,13 @@ def test_sampling_check_table_and_caption():
     cov = np.std([0.9, 1.0, 1.0, 1.1], ddof=1)
     assert check.set_index("variable").loc["E_b", "cov_sample"] == pytest.approx(cov)
     values = captions.sampling_check(check, achieved)
-    assert values["corr"] == 0.49 and values["other"] == pytest.approx(0.03)
+    assert values["targets"] == "E_b-f_tu target 0.5, achieved **0.490**" and values["other"] == pytest.approx(0.03)
     assert values["mean_dev"] == pytest.approx(5.0)
     # the largest COV deviation: f_tj's, 1, 1, 1.1, 1.1 x its mean against its target 0.4
     assert values["cov_dev"] == pytest.approx(100 * (1 - np.std([1, 1, 1.1, 1.1], ddof=1) / 1.05 / 0.4))
     assert "**0.490**" in fill("sampling_check", values)
+    # a study without a targeted correlation: every off-diagonal one is 'other'
+    assert captions.sampling_check(check, achieved, {}) == dict(values, targets="none targeted", other=0.49)
 
 
 def _runs():

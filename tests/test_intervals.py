@@ -66,7 +66,7 @@ def test_the_resampled_statistics_at_the_sample_itself_are_the_tables():
     ``statistics``, ``correlations`` and ``increase`` (pandas group-bys):
     two implementations, one answer."""
     runs = _runs()
-    levels, d = A._wide(runs, "nonspatial", A.INPUTS)
+    levels, d = A._wide(runs, "nonspatial", A.INPUTS, A.SIGMA_V)
     s = {k: v[0] for k, v in A._sample_statistics(d, np.arange(d["P"].shape[0])[None]).items()}
     st = A.statistics(runs).set_index(["mode", "sigma_v_mpa"])
     co = A.correlations(runs).set_index(["mode", "sigma_v_mpa"])

@@ -96,6 +96,9 @@ def _study(tmp_path, **change):
     (dict(sweep__levels=["0 MPa", "0.15"]), "study.sweep.levels.1", "did you mean 0.15 MPa?"),
     (dict(rules={"materials.joints.GI_per_ft": 0.03}), "study.rules", "did you mean 0.03 mm?"),
     (dict(scene="config/scenes/none.yaml"), "study.scene", "cannot read"),
+    (dict(regression={"features": ["f_tu", "f_x^2"]}), "study.regression.features.1", "'f_x' in 'f_x^2' is not an input"),
+    (dict(regression={"features": ["f_tu^1.5"]}), "study.regression.features.0", "a whole number from 1 to 4"),
+    (dict(sweep__name="f_tj"), "study.sweep.name", "a variable's name too"),
 ])
 def test_a_bad_study_file_is_refused_naming_the_field(tmp_path, change, field, words):
     with pytest.raises(InputError) as e:
@@ -106,3 +109,20 @@ def test_a_bad_study_file_is_refused_naming_the_field(tmp_path, change, field, w
 def test_a_field_variant_reads_its_correlation_length_in_any_length_unit(tmp_path):
     s = load_study(_study(tmp_path, variants__spatial={"draw": "field", "correlation_length": "300 mm"}))
     assert s.variants["spatial"] == {"draw": "field", "correlation_length": 0.3}
+
+
+def test_the_inputs_columns_and_terms_of_a_study(tmp_path):
+    """Each input (a variable, or the sweep by its name) has the runs
+    table's column of its name and the unit it is shown in; the terms
+    parse into powers and products of inputs; without a regression, each
+    input enters linearly."""
+    from masonrydem.studyfile import parse_term
+    s = load_study(WILLIS)
+    assert s.columns() == dict(f_tj="f_tj_mpa", f_tu="f_tu_mpa", phi_j="phi_j_deg", E_b="E_b_mpa", sigma_v="sigma_v_mpa")
+    assert s.features == ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v") and s.level_column() == "sigma_v_mpa"
+    assert s.means() == dict(f_tj=0.3, f_tu=3.75, phi_j=35.0, E_b=15000.0)
+    assert parse_term("f_tj^2 * sigma_v", s.units) == (("f_tj", 2), ("sigma_v", 1))
+    t = load_study(_study(tmp_path, sweep={"setting": "geometry.joint_thickness", "levels": ["10 mm", "12 mm"]},
+                          regression=None))
+    assert (t.sweep_name, t.level_column(), t.levels) == ("joint_thickness", "joint_thickness_mm", (0.01, 0.012))
+    assert t.features == tuple(v.name for v in t.variables) + ("joint_thickness",)

@@ -185,6 +185,59 @@ def test_a_setting_sampling_does_not_read_reruns_no_simulation(smoke, tmp_path):
     assert "collect" in planned and not planned & {"sample", "simulate"}, r.stdout[-2000:]
 
 
+SWEEP_STUDY = """
+name: joints
+scene: config/scenes/willis.yaml
+samples: 8
+seed: 3
+variables:
+  f_tj: {setting: materials.joints.ft, per: joint, distribution: lognormal, mean: 0.30 MPa, cov: 0.40}
+  f_tu: {setting: materials.units.ft, per: unit, distribution: lognormal, mean: 3.75 MPa, cov: 0.25}
+variants:
+  nonspatial: {draw: wallette}
+rules:
+  materials.units.Gf_rule: {coefficient: 0.04, exponent: 0.7}
+  materials.joints.GI_per_ft: 0.03 mm
+  materials.joints.Em_ratio: 0.1
+sweep: {setting: geometry.joint_thickness, name: t, levels: [8 mm, 14 mm]}
+regression:
+  features: [f_tu, f_tj, t, f_tj*t]
+"""
+
+
+def test_a_study_that_sweeps_another_setting(tmp_path):
+    """A study file that sweeps the joint thickness (not the precompression)
+    with terms of its own runs end to end at the smoke's numerics: the runs'
+    folders are named by the sweep (t8.0), the runs table has the column
+    t_mm from those folders, the statistics are per t_mm, the equations
+    have the study's terms and the predictor takes t in mm; the design
+    comparison, which needs the precompression, says why it is absent."""
+    (tmp_path / "joints.yaml").write_text(SWEEP_STUDY)
+    (tmp_path / "workflow.yaml").write_text(yaml.safe_dump(dict(
+        results=str(tmp_path / "results"), study=dict(file=str(tmp_path / "joints.yaml"), levels=["8 mm", "14 mm"],
+                                                      paper=None))))
+    r = subprocess.run(SNAKEMAKE + ["study", "--cores", "2", "--configfile", "config/smoke.yaml",
+                                    str(tmp_path / "workflow.yaml"), "-q"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    out = tmp_path / "results" / "study"
+    assert sorted(p.name for p in (out / "runs" / "nonspatial").iterdir()) == ["t14.0", "t8.0"]
+    runs = pd.read_parquet(out / "runs.parquet")
+    assert len(runs) == 16 and runs.groupby("t_mm").size().to_dict() == {8.0: 8, 14.0: 8}
+    assert set(runs.sigma_v_mpa) == {0.0}           # the scene's precompression, not swept
+    st = pd.read_csv(out / "statistics.csv")
+    assert set(st.t_mm) == {8.0, 14.0} and "sigma_v_mpa" not in st
+    for t, g in runs[runs.ok].groupby("t_mm"):
+        row = st[(st.t_mm == t) & (st["mode"] == "all")].iloc[0]
+        assert row["count"] == len(g) and row.P_max_mean_kN == pytest.approx(g.P_max_kN.mean(), rel=1e-3)
+    eq = pd.read_csv(out / "equations.csv")
+    assert {"f_tu", "f_tj", "t", "f_tj*t"} <= set(eq.columns)
+    predictor = json.loads((out / "predictor.json").read_text())
+    assert predictor["inputs"]["t"] == dict(unit="m", shown="mm", column="t_mm")
+    assert predictor["fitted_range"]["t"] == [8.0, 14.0]
+    assert "sweeps geometry.joint_thickness" in (out / "design_comparison.csv").read_text()
+    assert "levels of t (8, 14 mm)" in (tmp_path / "results" / "report" / "workflow.rst").read_text()
+
+
 def test_full_study_plans_1000_simulations(tmp_path):
     r = subprocess.run(SNAKEMAKE + ["-n", "--config", f"results={tmp_path}"], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr[-2000:]

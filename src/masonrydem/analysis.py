@@ -1,13 +1,17 @@
 """Analysis of the study's runs (docs/study.md, 11-14): statistics, correlations,
 prediction equations and the design rules they are compared with.
 
-A runs table has one row per simulation with at least: variant, sigma_v_mpa,
-sample, failure_mode, ok (the run reached its stop criteria), P_max_kN,
-strength_mpa and the random inputs f_tj_mpa, f_tu_mpa, phi_j_deg, E_b_mpa.
-Runs that are not ``ok`` are excluded from every statistic and counted.
+A runs table has one row per simulation with at least: variant, the swept
+level (for the Willis study sigma_v_mpa), sample, failure_mode, ok (the run
+reached its stop criteria), P_max_kN, strength_mpa and the random inputs
+(f_tj_mpa, f_tu_mpa, phi_j_deg, E_b_mpa).  Runs that are not ``ok`` are
+excluded from every statistic and counted.  ``level`` (a Level: its column,
+name and unit) names the swept setting; the Willis study's, SIGMA_V, by
+default.
 """
 import itertools
 import warnings
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
@@ -23,7 +27,27 @@ _COLUMN = {"f_tj": ("f_tj_mpa", 1e-6), "f_tu": ("f_tu_mpa", 1e-6), "phi_j": ("ph
 INPUT_MEANS = {_COLUMN[v.name][0]: v.mean * _COLUMN[v.name][1] for v in STUDY_VARIABLES}
 
 
-def check_one_solver(runs):
+class Level(NamedTuple):
+    """The swept setting: its column in the runs table, its name, the unit
+    the column shows it in (plan.regression: level_column, level, unit)."""
+    column: str
+    name: str
+    unit: str
+
+    def text(self, value):
+        return f"{value:g} {self.unit}".rstrip()
+
+
+SIGMA_V = Level("sigma_v_mpa", "sigma_v", "MPa")
+
+
+def of_study(spec):
+    """(Level, random inputs: column -> mean) of a study (plan.analysis)."""
+    return (Level(spec["level_column"], spec["level"], spec["level_unit"]),
+            {spec["columns"][name]: mean for name, mean in spec["means"].items()})
+
+
+def check_one_solver(runs, level=SIGMA_V):
     """Refuse a runs table whose simulations come from different solver
     sources (column solver_version, 'version+source hash'; rows without one,
     runs that raised before the solver started, do not count).  Snakemake
@@ -34,8 +58,8 @@ def check_one_solver(runs):
     counts = v.value_counts()
     if len(counts) > 1:
         odd = runs[runs["solver_version"].isin(counts.index[1:])]
-        names = ", ".join(f"{r.variant}/sv{r.sigma_v_mpa:g}/s{r.sample} ({r.solver_version})"
-                          for r in odd.head(10).itertuples())
+        names = ", ".join(f"{r['variant']}/{level.text(r[level.column])}/s{r['sample']} ({r['solver_version']})"
+                          for _, r in odd.head(10).iterrows())
         raise ValueError(f"runs from {len(counts)} solver versions: {len(odd)} differ from {counts.index[0]} "
                          f"({counts.iloc[0]} runs): {names}{' ...' if len(odd) > 10 else ''}; rerun them "
                          f"(snakemake --forcerun <their result files>)")
@@ -47,28 +71,28 @@ def _cov(x):
     return float(x.std(ddof=1) / x.mean()) if x.size > 1 else np.nan
 
 
-def statistics(runs):
-    """Mean, COV and count of P_max per variant, sigma_v and failure mode
+def statistics(runs, level=SIGMA_V):
+    """Mean, COV and count of P_max per variant, level and failure mode
     (mode 'all' for all modes together), with the share of brick failures
     and the number of runs excluded (not ok)."""
     rows = []
-    for (variant, sv), g in runs.groupby(["variant", "sigma_v_mpa"]):
+    for (variant, sv), g in runs.groupby(["variant", level.column]):
         good = g[g.ok]
         for mode in ("all", "joint", "brick"):
             sel = good if mode == "all" else good[good.failure_mode == mode]
-            rows.append(dict(variant=variant, sigma_v_mpa=sv, mode=mode, count=len(sel),
-                             P_max_mean_kN=sel.P_max_kN.mean() if len(sel) else np.nan,
-                             P_max_cov=_cov(sel.P_max_kN),
-                             strength_mean_mpa=sel.strength_mpa.mean() if len(sel) else np.nan,
-                             brick_share=float((good.failure_mode == "brick").mean()) if len(good) else np.nan,
-                             excluded=int((~g.ok).sum())))
+            rows.append({"variant": variant, level.column: sv, "mode": mode, "count": len(sel),
+                         "P_max_mean_kN": sel.P_max_kN.mean() if len(sel) else np.nan,
+                         "P_max_cov": _cov(sel.P_max_kN),
+                         "strength_mean_mpa": sel.strength_mpa.mean() if len(sel) else np.nan,
+                         "brick_share": float((good.failure_mode == "brick").mean()) if len(good) else np.nan,
+                         "excluded": int((~g.ok).sum())})
     return pd.DataFrame(rows)
 
 
-def increase(stats, low=0.0, high=0.5):
-    """Relative increase of the mean P_max from sigma_v = low to high, per
+def increase(stats, low=0.0, high=0.5, level=SIGMA_V):
+    """Relative increase of the mean P_max from the level low to high, per
     variant and mode."""
-    s = stats.set_index(["variant", "mode", "sigma_v_mpa"]).P_max_mean_kN
+    s = stats.set_index(["variant", "mode", level.column]).P_max_mean_kN
     out = []
     for (variant, mode), g in s.groupby(level=[0, 1]):
         g = g.droplevel([0, 1])
@@ -83,14 +107,14 @@ def running_mean(values):
     return np.cumsum(values) / np.arange(1, values.size + 1)
 
 
-def correlations(runs, inputs=INPUTS):
-    """Pearson correlation of P_max with each random input, per variant,
-    sigma_v and mode ('all' included)."""
+def correlations(runs, inputs=INPUTS, level=SIGMA_V):
+    """Pearson correlation of P_max with each random input (its column),
+    per variant, level and mode ('all' included)."""
     rows = []
-    for (variant, sv), g in runs[runs.ok].groupby(["variant", "sigma_v_mpa"]):
+    for (variant, sv), g in runs[runs.ok].groupby(["variant", level.column]):
         for mode in ("all", "joint", "brick"):
             sel = g if mode == "all" else g[g.failure_mode == mode]
-            row = dict(variant=variant, sigma_v_mpa=sv, mode=mode, count=len(sel))
+            row = {"variant": variant, level.column: sv, "mode": mode, "count": len(sel)}
             for name in inputs:
                 ok = len(sel) > 2 and sel[name].std() > 0 and sel.P_max_kN.std() > 0
                 row[name] = float(np.corrcoef(sel[name], sel.P_max_kN)[0, 1]) if ok else np.nan
@@ -147,14 +171,14 @@ def bootstrap_interval(n, statistic, resamples, seed):
     return np.asarray(ci.low, float), np.asarray(ci.high, float)
 
 
-def _wide(runs, variant, inputs):
+def _wide(runs, variant, inputs, level):
     """A variant's runs as arrays over (sample, level): P_max, strength,
     the masks of the ok runs per mode of MODES (mode, sample, level) and
     the inputs (sample, level, input).  A run missing from the table
     counts as not ok.  Returns (levels, arrays)."""
     g = runs[runs.variant == variant]
-    samples, levels = np.sort(g["sample"].unique()), np.sort(g.sigma_v_mpa.unique())
-    w = g.set_index(["sample", "sigma_v_mpa"]).reindex(pd.MultiIndex.from_product([samples, levels]))
+    samples, levels = np.sort(g["sample"].unique()), np.sort(g[level.column].unique())
+    w = g.set_index(["sample", level.column]).reindex(pd.MultiIndex.from_product([samples, levels]))
     shape = (samples.size, levels.size)
     ok = w.ok.fillna(False).to_numpy(bool).reshape(shape)
     mode = w.failure_mode.fillna("").to_numpy().reshape(shape)
@@ -196,20 +220,20 @@ def _unflat(vector, like):
     return {name: v.reshape(a.shape[1:]) for (name, a), v in zip(like.items(), parts)}
 
 
-def study_tables(runs, resamples, seed, inputs=INPUTS):
+def study_tables(runs, resamples, seed, inputs=INPUTS, level=SIGMA_V):
     """The tables of ``statistics``, ``correlations`` and ``increase`` (from
     the lowest level to the highest), each statistic with its 95 %
     bootstrap interval (``bootstrap_interval``, samples resampled within
     each variant) in the columns <column>_lo and <column>_hi."""
     stats, corr, inc = [], [], []
     for variant in sorted(runs.variant.unique()):
-        levels, d = _wide(runs, variant, inputs)
+        levels, d = _wide(runs, variant, inputs, level)
         n = d["P"].shape[0]
         like = _sample_statistics(d, np.arange(n)[None])
         lo, hi = (_unflat(v, like) for v in bootstrap_interval(
             n, lambda idx: _flat(_sample_statistics(d, idx)), resamples, seed))
         for (i, mode), (j, sv) in itertools.product(enumerate(MODES), enumerate(levels)):
-            key = dict(variant=variant, sigma_v_mpa=sv, mode=mode)
+            key = {"variant": variant, level.column: sv, "mode": mode}
             stats.append(dict(key, P_max_mean_kN_lo=lo["mean"][i, j], P_max_mean_kN_hi=hi["mean"][i, j],
                               P_max_cov_lo=lo["cov"][i, j], P_max_cov_hi=hi["cov"][i, j],
                               strength_mean_mpa_lo=lo["strength"][i, j], strength_mean_mpa_hi=hi["strength"][i, j],
@@ -218,14 +242,17 @@ def study_tables(runs, resamples, seed, inputs=INPUTS):
                                      for e, b in (("lo", lo), ("hi", hi))}))
         inc += [dict(variant=variant, mode=mode, increase_lo=lo["increase"][i], increase_hi=hi["increase"][i])
                 for i, mode in enumerate(MODES)]
-    keys = ["variant", "sigma_v_mpa", "mode"]
-    st = statistics(runs).merge(pd.DataFrame(stats), on=keys, how="left")
-    return (st, correlations(runs, inputs).merge(pd.DataFrame(corr), on=keys, how="left"),
-            increase(st, runs.sigma_v_mpa.min(), runs.sigma_v_mpa.max()).merge(pd.DataFrame(inc), how="left"))
+    keys = ["variant", level.column, "mode"]
+    st = statistics(runs, level).merge(pd.DataFrame(stats), on=keys, how="left")
+    low, high = runs[level.column].min(), runs[level.column].max()
+    return (st, correlations(runs, inputs, level).merge(pd.DataFrame(corr), on=keys, how="left"),
+            increase(st, low, high, level).merge(pd.DataFrame(inc), how="left"))
 
 
 # --- the prediction against the simulations and the design rules -------------------
-def scatter_level(runs, near=0.25):
-    """The precompression level of the scatter plot: the one nearest ``near`` MPa."""
-    levels = np.sort(runs.sigma_v_mpa.unique())
+def scatter_level(runs, near=None, level=SIGMA_V):
+    """The level of the scatter plot: the one nearest ``near``, by default
+    the middle of the levels' range (for the Willis study, 0.25 MPa)."""
+    levels = np.sort(runs[level.column].unique())
+    near = (levels[0] + levels[-1]) / 2 if near is None else near
     return levels[np.argmin(np.abs(levels - near))]

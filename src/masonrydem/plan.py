@@ -7,7 +7,6 @@ says what each one overrides."""
 from dataclasses import replace
 from functools import lru_cache
 
-from .errors import InputError
 
 ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
 
@@ -106,9 +105,6 @@ def specimen_cases(config):
 
 
 # --- the stochastic study -----------------------------------------------------
-SWEPT = "loading.precompression.pressure"    # the workflow's sweep: its levels are the wildcard sv (MPa)
-
-
 def study(config):
     """The typed study of the config: its study file (study.file), with
     the config's samples, seed and levels where given (config/smoke.yaml:
@@ -125,9 +121,6 @@ def _study(path, samples, seed, levels):
     changes = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
     if levels is not None:
         st = with_levels(st, [_number(x) for x in levels], "study.levels")
-    if st.sweep_setting != SWEPT:
-        raise InputError(f"{path}: sweep.setting", f"the workflow sweeps {SWEPT} (its levels name the runs' "
-                                                  f"folders sv<MPa>), not {st.sweep_setting}")
     return replace(st, **changes)
 
 
@@ -139,18 +132,38 @@ def _number(text):
 
 
 def study_levels(config):
-    """The study's precompression levels in MPa (the wildcard sv)."""
-    return [level / 1e6 for level in study(config).levels]
-
-
-def regression(config):
-    """What the study's analysis needs of its study file: the equations'
-    terms, each input's column in the runs table, the swept setting's name
-    and column, the variables' means (in the columns' units), each input's
-    SI unit."""
+    """The study's levels of its swept setting, in the unit the runs table
+    shows them in (the precompression in MPa)."""
+    from .quantities import to_shown
     st = study(config)
-    return dict(terms=list(st.features), columns=st.columns(), level=st.sweep_name, level_column=st.level_column(),
-                means=st.means(), units=dict(st.units))
+    return [to_shown(level, st.units[st.sweep_name]) for level in st.levels]
+
+
+def study_level_dirs(config):
+    """The runs' folder of each level (the wildcard level): the sweep's
+    name and the level as shown, sigma_v0.15."""
+    return [f"{study(config).sweep_name}{x!r}" for x in study_levels(config)]
+
+
+def level_override(config, level):
+    """The scene override of a level: by its folder name (the wildcard) or
+    its value as shown (a runs table's level column)."""
+    st = study(config)
+    dirs, shown = study_level_dirs(config), study_levels(config)
+    k = dirs.index(level) if isinstance(level, str) else min(range(len(shown)), key=lambda i: abs(shown[i] - level))
+    return f"{st.sweep_setting}={float(st.levels[k])}"
+
+
+def analysis(config):
+    """What the study's analysis needs of its study file: the equations'
+    terms, each input's column in the runs table, the swept setting, its
+    name, column and unit shown, the variables' means (in the columns' units),
+    each input's SI unit."""
+    from .quantities import shown
+    st = study(config)
+    return dict(terms=list(st.features), columns=st.columns(), setting=st.sweep_setting, level=st.sweep_name,
+                level_column=st.level_column(),
+                level_unit=shown(st.units[st.sweep_name])[0], means=st.means(), units=dict(st.units))
 
 
 def study_variants(config):
@@ -254,8 +267,8 @@ def planned_scenes(config):
     plans: ``where`` names the config's setting (and the run) it comes from."""
     scene, numerics = config["scene"], config["numerics"]
     out = [("numerics", scene, numerics)]
-    out += [(f"study levels ({sv} MPa)", study(config).scene, effective(numerics, [pressure(sv)]))
-            for sv in study_levels(config)]
+    out += [(f"study levels ({level})", study(config).scene, effective(numerics, [level_override(config, level)]))
+            for level in study_level_dirs(config)]
     v = config["validation"]
     out += [(f"validation.cases ({c['name']} at {sv} MPa)", scene, validation_overrides(config, c["name"], sv))
             for c in v["cases"] for sv in v["precompression_mpa"]]

@@ -21,6 +21,7 @@ rule figures:
         captions=[get_caption_file(n) for n in FIGURE_CAPTIONS],
     params:
         code=get_code("figures"),
+        analysis=plan.analysis(config),
     log:
         f"{R}/logs/study/figures.log",
     conda:
@@ -48,7 +49,7 @@ rule regression:
     params:
         code=get_code("regression"),
         bootstrap=config["study"]["bootstrap"],
-        regression=plan.regression(config),
+        analysis=plan.analysis(config),
     log:
         f"{R}/logs/study/regression.log",
     conda:

@@ -123,8 +123,8 @@ def get_specimen_outputs():
 # --- the stochastic study -------------------------------------------------------
 def get_study_runs(kind):
     """Every simulation's result (kind 'result') or curve file."""
-    return expand(f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/{kind}.json", variant=plan.study_variants(config),
-                  sv=plan.study_levels(config), sample=range(plan.study(config).samples))
+    return expand(f"{R}/study/runs/{{variant}}/{{level}}/s{{sample}}/{kind}.json", variant=plan.study_variants(config),
+                  level=plan.study_level_dirs(config), sample=range(plan.study(config).samples))
 
 
 def get_study_scene():
@@ -144,9 +144,9 @@ def get_study_design():
 
 
 def get_study_sets(wildcards):
-    """A study simulation: the numerics and its precompression (the sample's
-    settings come from the samples file: --samples)."""
-    return get_job_sets(plan.effective(config["numerics"], [plan.pressure(wildcards.sv)]))
+    """A study simulation: the numerics and its level of the swept setting
+    (the sample's settings come from the samples file: --samples)."""
+    return get_job_sets(plan.effective(config["numerics"], [plan.level_override(config, wildcards.level)]))
 
 
 def get_fine_sets(wildcards):
@@ -206,8 +206,18 @@ def get_subsample_runs(which):
     if not config.get("accuracy"):
         return []
     sub = config["accuracy"]["subsample"]
-    root = "study/runs" if which == "default" else "accuracy/subsample"
-    return expand(f"{R}/{root}/nonspatial/sv{{sv}}/s{{sample}}/result.json", sv=sub["precompression_mpa"],
+    if which == "default":      # the study's folders of these precompressions (its sweep's)
+        st = plan.study(config)
+        dirs = dict(zip(plan.study_levels(config), plan.study_level_dirs(config)))
+        missing = [sv for sv in sub["precompression_mpa"] if float(sv) not in dirs]
+        if st.sweep_setting != "loading.precompression.pressure" or missing:
+            raise ValueError(f"accuracy.subsample.precompression_mpa: {missing or sub['precompression_mpa']} MPa "
+                             f"pairs the study's own runs at these precompressions, but the study file sweeps "
+                             f"{st.sweep_setting} at {plan.study_level_dirs(config)}; give the subsample the "
+                             f"study's levels, or leave the accuracy target out")
+        return expand(f"{R}/study/runs/nonspatial/{{level}}/s{{sample}}/result.json",
+                      level=[dirs[float(sv)] for sv in sub["precompression_mpa"]], sample=range(sub["n_samples"]))
+    return expand(f"{R}/accuracy/subsample/nonspatial/sv{{sv}}/s{{sample}}/result.json", sv=sub["precompression_mpa"],
                   sample=range(sub["n_samples"]))
 
 

@@ -29,6 +29,7 @@ rule study_pictures:
         caption=get_caption_file("study_pictures"),
     params:
         code=get_code("study_pictures"),
+        analysis=plan.analysis(config),
         pictures=plan.study_pictures(config),
         variants=plan.study_variants(config),
         overrides=config["numerics"],

@@ -42,13 +42,13 @@ rule sampling_check:
 
 
 rule simulate:
-    """One simulation: a variant, a precompression level, a sample."""
+    """One simulation: a variant, a level of the swept setting, a sample."""
     input:
         samples=f"{R}/study/samples_{{variant}}.json",
         scene=ancient(get_study_scene()),  # by its content: params.scene
     output:
-        result=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/result.json",
-        curve=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/curve.json",
+        result=f"{R}/study/runs/{{variant}}/{{level}}/s{{sample}}/result.json",
+        curve=f"{R}/study/runs/{{variant}}/{{level}}/s{{sample}}/curve.json",
     params:
         sets=get_study_sets,
         out=get_run_dir,
@@ -56,7 +56,7 @@ rule simulate:
         python=get_python,
         scene=get_file_digest(get_study_scene()),
     log:
-        f"{R}/logs/study/{{variant}}_sv{{sv}}_s{{sample}}.log",
+        f"{R}/logs/study/{{variant}}_{{level}}_s{{sample}}.log",
     threads: 1
     conda:
         ENV
@@ -73,11 +73,15 @@ rule collect:
     input:
         results=get_study_runs("result"),
         curves=get_study_runs("curve"),
+        samples=expand(f"{R}/study/samples_{{variant}}.json", variant=plan.study_variants(config)),
     output:
         runs=f"{R}/study/runs.parquet",
         curves=f"{R}/study/curves.parquet",
     params:
         code=get_code("collect"),
+        analysis=plan.analysis(config),
+        levels=dict(zip(plan.study_level_dirs(config), plan.study_levels(config))),
+        variants=plan.study_variants(config),
         simulations=get_study_runs_key(),
         curve_points=config["study"]["curve_points"],
     log:
@@ -102,6 +106,7 @@ rule statistics:
     params:
         code=get_code("statistics"),
         bootstrap=config["study"]["bootstrap"],
+        analysis=plan.analysis(config),
     log:
         f"{R}/logs/study/statistics.log",
     conda:

@@ -14,4 +14,5 @@ nonspatial, _, achieved = study_samples(study.samples, study.seed, variables=stu
 check = sampling_check(nonspatial, achieved, study.variables)
 check.to_csv(sm.output.check, index=False, float_format="%.4g")
 print(check.to_string())
-captions.write_caption(sm.input.template, sm.output.caption, **captions.sampling_check(check, achieved))
+captions.write_caption(sm.input.template, sm.output.caption, **captions.sampling_check(check, achieved,
+                                                                                study.correlations))
