@@ -43,10 +43,10 @@ def test_smoke_study_outputs(smoke):
     # of its own curve kept
     per_run = curves.groupby(["variant", "sigma_v_mpa", "sample"]).load_kN
     assert per_run.size().max() <= yaml.safe_load(open("config/config.yaml"))["study"]["curve_points"] + 1
-    paths = list((smoke / "study" / "runs").glob("*/sv*/s*/curve.json"))
+    paths = list((smoke / "study" / "runs").glob("*/sigma_v*/s*/curve.json"))
     assert len(paths) == 32
     for path in paths:
-        variant, sv, sample = path.parts[-4], float(path.parts[-3][2:]), int(path.parts[-2][1:])
+        variant, sv, sample = path.parts[-4], float(path.parts[-3][len("sigma_v"):]), int(path.parts[-2][1:])
         raw = json.loads(path.read_text())
         assert per_run.max()[(variant, sv, sample)] == np.float32(max(raw["load_kN"])), path
     # same samples at every level: the inputs of a sample do not depend on sigma_v
@@ -279,7 +279,7 @@ def test_a_simulation_that_raises_is_recorded(tmp_path):
     nonspatial.loc[nonspatial["sample"] == 0, "f_tj"] = -1e5
     write_json(root / "study" / "samples_nonspatial.json",
                [willis_record(r, "nonspatial") for r in records(nonspatial)])
-    target = root / "study" / "runs" / "nonspatial" / "sv0.0" / "s0" / "result.json"
+    target = root / "study" / "runs" / "nonspatial" / "sigma_v0.0" / "s0" / "result.json"
     r = subprocess.run(SNAKEMAKE + [str(target), "--cores", "1", "--allowed-rules", "simulate", "--configfile",
                                     "config/smoke.yaml", "--config", f"results={root}"], capture_output=True, text=True)
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
@@ -453,7 +453,7 @@ def test_an_interrupted_run_resumes_with_what_is_missing(tmp_path):
     cmd = SNAKEMAKE + [f"{root}/study/runs.parquet", "--cores", "2", "--configfile", "config/smoke.yaml",
                        "--config", f"results={root}"]
     def finished():     # simulations with both outputs
-        return sum((d / "curve.json").exists() for d in (r.parent for r in root.glob("study/runs/*/sv*/s*/result.json")))
+        return sum((r.parent / "curve.json").exists() for r in root.glob("study/runs/*/sigma_v*/s*/result.json"))
 
     # Ctrl-C in a terminal interrupts the whole foreground process group:
     # Snakemake and the simulations it runs

@@ -239,7 +239,7 @@ def study_pictures(picked, level=A.SIGMA_V):
 
 
 def equations(rows):
-    """The prediction equations' rows (analysis.prediction_equations)."""
+    """The prediction equations' rows (equations.prediction_equations)."""
     lines = []
     for r in rows:
         if r["mode"] == "lower of two":

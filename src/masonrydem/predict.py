@@ -101,12 +101,16 @@ def _wallette(w):
 def load(path):
     try:
         with open(path) as f:
-            return json.load(f)
+            p = json.load(f)
     except OSError as e:
         raise InputError("--study", f"cannot read {path}: {e.strerror} (the study's regression writes it: "
                                     "snakemake --cores 2 results/study/predictor.json)") from None
     except ValueError as e:
         raise InputError("--study", f"{path} is not a predictor file: {e}") from None
+    if "inputs" not in p:
+        raise InputError("--study", f"{path} is a predictor of an older version (it does not name its inputs): "
+                                    "rerun the study's regression, which writes it")
+    return p
 
 
 def predict(study="results/study/predictor.json", options=None, **inputs):

@@ -235,7 +235,7 @@ def design_table(fits, ns, resid_sd, levels, geometry, means=None, columns=E.COL
 
 # --- the source paper side by side (docs/study.md, 17; docs/findings.md) ---------------
 def paper_equation(paper, mode):
-    """The paper's Eq. 10 for ``mode`` as an equation for analysis.predict
+    """The paper's Eq. 10 for ``mode`` as an equation for equations.predict
     (a term it does not have has coefficient 0)."""
     c = paper["equations"][mode]
     return dict(intercept=float(c["intercept"]), coef={k: float(c.get(k, 0.0)) for k in E.FEATURES})
