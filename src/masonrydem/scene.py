@@ -67,6 +67,7 @@ class Drive:
     max_displacement: float
     load_drop: float
     max_steps: int
+    past_peak: tuple = None  # (drop, after, at_most): stops.Stops.past_peak
 
 
 @dataclass(frozen=True)
@@ -217,6 +218,8 @@ def _loading(lo, g, given=()):
     b = lo["bending"]
     supports, loads = placed(b, g, given) if test == "bending" else (tuple(b["supports_x"]), tuple(b["loads_x"]))
     drive = {k: lo[test][k] for k in ("rate", "ramp_steps", "max_displacement", "load_drop", "max_steps")}
+    if (past := lo[test].get("past_peak")) is not None:
+        drive["past_peak"] = (past["drop"], past["after"], past["at_most"])
     return Loading(test=test, precompression=Precompression(**lo["precompression"]), drive=Drive(**drive),
                    bending=Bending(supports_x=supports, loads_x=loads,
                                    section_height=b.get("section_height", g.built_height),
