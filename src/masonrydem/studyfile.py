@@ -154,14 +154,22 @@ def _typed(raw):
     features = tuple((raw.get("regression") or {}).get("features", units))     # each input, linear
     for i, term in enumerate(features):
         _fail_prefixed_at(f"regression.features.{i}", lambda: parse_term(term, units))
-    rules = {k: (to_si(v, _unit(k, f"rules.{k}"), f"rules.{k}") if schema_at(SCENE_SCHEMA, k) else v)
-             for k, v in raw.get("rules", {}).items()}
+    rules = {k: _rule_si(k, v) for k, v in raw.get("rules", {}).items()}
     study = Study(name=raw["name"], scene=raw["scene"], samples=raw["samples"], seed=raw["seed"], variables=variables,
                   correlations=correlations, variants=variants, rules=rules,
                   sweep_setting=sweep["setting"], levels=levels, features=features,
                   sweep_name=sweep_name, units=units)
     _check_against_scene(study)
     return study
+
+
+def _rule_si(key, value):
+    """A rule's value in SI, quantities converted in the unit of the scene
+    setting at ``key`` (in a mapping, each of its keys'): a job then passes
+    plain numbers, and never loads the units library."""
+    if isinstance(value, dict):
+        return {k: _rule_si(f"{key}.{k}", v) for k, v in value.items()}
+    return to_si(value, _unit(key, f"rules.{key}"), f"rules.{key}") if schema_at(SCENE_SCHEMA, key) else value
 
 
 def _check_against_scene(study):
