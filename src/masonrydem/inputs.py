@@ -9,9 +9,10 @@ import yaml
 from .errors import InputError
 
 
-class _Loader(yaml.SafeLoader):
+class _Loader(getattr(yaml, "CSafeLoader", yaml.SafeLoader)):
     """YAML loader that also reads 15e9 or 0.3e6 as floats (YAML 1.1, and so
-    PyYAML, wants 15.0e+9)."""
+    PyYAML, wants 15.0e+9).  LibYAML's parser where PyYAML has it (the
+    scene schema loads in a tenth of the time; the same documents)."""
 
 
 _Loader.add_implicit_resolver(
