@@ -140,8 +140,8 @@ def test_a_scene_without_numerics_runs_at_the_accuracy_studys_choice(tmp_path):
     setting is the study's scene with no numerics of its own, so the
     schema's defaults are what it measured; choice.csv marks that setting
     as chosen and within 2 % of every reference with the right modes.  The
-    candidates next to it (config.yaml: pc_c6x3x2_r1 is the defaults with
-    subcontact_refine=1) name the same cells, 6 x 3 x 2 along, through and
+    candidates next to it (config.yaml: pc_c4x3x2_r1 is the defaults with
+    subcontact_refine=1) name the same cells, 4 x 3 x 2 along, through and
     up a unit.  A scene that says nothing about its physics or numerics
     gets exactly these."""
     import pandas as pd
@@ -156,4 +156,4 @@ def test_a_scene_without_numerics_runs_at_the_accuracy_studys_choice(tmp_path):
     sc = load_scene(str(bare))
     assert sc.physics.blocks == "potential-crack"
     assert sc.numerics == load_scene(WILLIS).numerics
-    assert (sc.numerics.cells, sc.numerics.elastic_element, sc.numerics.refine.head) == ((6, 3, 2), "hex8i", (1, 2, 1))
+    assert (sc.numerics.cells, sc.numerics.elastic_element, sc.numerics.refine.head) == ((4, 3, 2), "hex8i", (1, 2, 1))
