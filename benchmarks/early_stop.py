@@ -45,6 +45,7 @@ def main():
     ap.add_argument("--all", action="store_true", help="every committed run")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--rule", default=RULE)
+    ap.add_argument("--out", help="write the per-run table (CSV) here")
     args = ap.parse_args()
     with open("config/config.yaml") as f:
         numerics = yaml.safe_load(f)["numerics"]
@@ -72,7 +73,8 @@ def main():
                   f" mode {row['failure_mode']:5s}{'' if r['same_mode'] else ' (was ' + old.failure_mode + ')'} "
                   f"steps {r['steps']:6d} (was {r['old_steps']:6d}) {row['status']}", flush=True)
     t = pd.DataFrame(rows)
-    t.to_csv("benchmarks/early_stop.csv", index=False)
+    if args.out:
+        t.to_csv(args.out, index=False)
     ok = t[t.old_status.isin(["load_drop", "displacement_limit"])]
     print(f"\n{len(t)} runs in {time.perf_counter() - t0:.0f} s on {args.jobs} processes; rule {args.rule}")
     print(f"peak (P_max, its displacement and step, drop_after_peak) identical: {int(t.same_peak.sum())} of {len(t)}")
