@@ -44,6 +44,10 @@ def read_yaml(text, where="scene"):
         return loader.construct_document(node)
     except RecursionError:
         raise InputError(where, "is nested too deeply") from None
+    except yaml.YAMLError as e:     # LibYAML's own limit on nesting
+        if "flow level" not in str(e) and "block level" not in str(e):
+            raise
+        raise InputError(where, "is nested too deeply") from None
     finally:
         loader.dispose()
 
