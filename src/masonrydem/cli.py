@@ -21,8 +21,7 @@ written: the row's status says how the run ended.
 A study job (--samples) reads one sample of a study's samples file and
 runs the scene with that sample's settings (study.py).  The run reports
 its own start-up, ``startup_s``: from the interpreter's start to the
-simulation's start (imports and reading the inputs), or, for a job run in
-a warm process (``run_job``), from the job's start.  Run as
+simulation's start (imports and reading the inputs).  Run as
 ``python -m masonrydem.cli``, it skips the interpreter's teardown of numba
 and LLVM once its outputs are written (0.2 s of a job that simulates for 2).
 """
@@ -104,9 +103,7 @@ def scene_of(args):
         return validate_scene(raw), e
 
 
-def _run(args, stream=None, started=None):
-    """``run``; its messages to ``stream`` (None: stdout and stderr);
-    ``started``: when the job started (None: the interpreter's start)."""
+def _run(args):
     check_threads(args.threads)
     scene, refused = scene_of(args)
     out = output_dir(args.out)
@@ -114,7 +111,7 @@ def _run(args, stream=None, started=None):
 
     from .results import empty_curve, error_row, write
     numba.set_num_threads(args.threads)
-    startup = time.time() - (_process_start() if started is None else started)
+    startup = time.time() - _process_start()
     labels = dict(variant=args.variant, sample=args.sample) if args.samples is not None else {}
     t0 = time.perf_counter()
     try:
@@ -122,13 +119,13 @@ def _run(args, stream=None, started=None):
             raise refused
         row, curve, state, error = _simulate(scene, not args.quiet, labels)
     except Exception as e:   # nothing lost: the row says what happened
-        traceback.print_exc(file=stream or sys.stderr)
+        traceback.print_exc()
         inputs = _sample_inputs(args) if refused is not None else {}
         row, curve, error = error_row(scene, e, time.perf_counter() - t0, **labels, inputs=inputs), empty_curve(), e
         state = True if scene.outputs.state else None
     row.startup_s = startup
     write(out, row, curve, args.format, state)
-    return _report(row, error, out, args.exit_zero, stream)
+    return _report(row, error, out, args.exit_zero)
 
 
 def _sample_inputs(args):
@@ -149,41 +146,19 @@ def _simulate(scene, progress, labels):
     return outcome_row(outcome, **labels), curve(outcome), state, None
 
 
-def _report(row, error, out, exit_zero, stream=None):
-    err = stream or sys.stderr
+def _report(row, error, out, exit_zero):
     if isinstance(error, InputError):   # found only once the model was built (or a sample the scene refused)
-        print(f"masonrydem: invalid input: {error} (status 'error' -> {out})", file=err)
+        print(f"masonrydem: invalid input: {error} (status 'error' -> {out})", file=sys.stderr)
         return 0 if exit_zero else 2
     if error is not None:
-        print(f"masonrydem: internal error: {row.message} (status 'error' -> {out})", file=err)
+        print(f"masonrydem: internal error: {row.message} (status 'error' -> {out})", file=sys.stderr)
         return 0 if exit_zero else 3
     print(f"{row.status}: P_max {row.P_max_kN:.3f} kN at {row.disp_at_peak_mm:.3f} mm, "
           f"strength {row.strength_mpa:.3f} MPa, {row.classification}; "
-          f"{row.steps} steps, {row.wall_time_s:.1f} s -> {out}", file=stream or sys.stdout)
+          f"{row.steps} steps, {row.wall_time_s:.1f} s -> {out}")
     if not row.ok:
-        print(f"masonrydem: the run ended not ok ({row.status}): {row.message}", file=err)
+        print(f"masonrydem: the run ended not ok ({row.status}): {row.message}", file=sys.stderr)
     return 0 if row.ok or exit_zero else 1
-
-
-def run_job(argv, log):
-    """``masonrydem run`` with the arguments ``argv`` in this process,
-    quietly, its messages and any traceback written to the file ``log``.
-    The workflow's simulation jobs run so, in threads of Snakemake's own
-    process (profiles/default: force-use-threads), where the package and
-    its compiled kernels load once rather than once a job; the step kernel
-    releases the GIL.  ``startup_s`` is then the job's own, from this call
-    to the simulation's start.  Returns the exit code, as ``main``."""
-    started = time.time()
-    with open(log, "w") as stream:
-        try:
-            return _run(parser().parse_args(["run", *argv, "--quiet"]), stream, started)
-        except InputError as e:
-            print(f"masonrydem: invalid input: {e}", file=stream)
-            return 2
-        except Exception:
-            traceback.print_exc(file=stream)
-            print("masonrydem: internal error (please report it with the traceback above)", file=stream)
-            return 3
 
 
 def _process_start():
