@@ -34,6 +34,7 @@ rule all:
         get_stability_outputs(),
         get_reduced_outputs(),
         get_specimen_outputs(),
+        get_further_outputs(),
 
 
 # the records of what made each result, for a clone (workflow/rules/provenance.smk)

@@ -21,6 +21,10 @@ paper's model), its figures in brick failure, and
                           --samples ...`) on a small wallette: its own
                           start-up (interpreter start to the simulation's
                           start) and its wall time
+  levers                  issue 36's levers, each on top of those before
+                          it: the mean wall time and steps of 12 study
+                          runs (6 committed samples at 0 and 0.5 MPa), the
+                          time against 'before' and the change of P_max
 The kernels are timed on realistic states: the wallette loaded past its
 peak (joint failure: joints softening), and a strong-joint wallette past
 its peak (brick failure: zones or crack interfaces cracking).  ``--tiny``:
@@ -38,6 +42,8 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 from numba import njit  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(__file__))
 
 from masonrydem import kernels as K  # noqa: E402
 from masonrydem.kernels.cells import cell_forces  # noqa: E402
@@ -166,9 +172,10 @@ def job_times(tiny):
     import tempfile
     from masonrydem.results import write_json
     from masonrydem.sampling import records, study_samples
+    from masonrydem.study import willis_record
     size = TINY if tiny else ["geometry.courses=2", "numerics.cells=[1, 1, 1]"]
     with tempfile.TemporaryDirectory() as tmp:
-        write_json(f"{tmp}/samples.json", records(study_samples(2, 1)[0]))
+        write_json(f"{tmp}/samples.json", [willis_record(r, "nonspatial") for r in records(study_samples(2, 1)[0])])
         cmd = [sys.executable, "-m", "masonrydem.cli", "run", SCENE, "--samples", f"{tmp}/samples.json", "--variant",
                "nonspatial", "--sample", "0", "--out", tmp, "--format", "json", "--exit-zero",
                *(x for o in size for x in ("--set", o))]
@@ -182,6 +189,44 @@ def job_times(tiny):
             if best is None or row["startup_s"] < best["startup_s"]:
                 best = dict(startup_s=round(row["startup_s"], 3), wall_s=round(wall, 3), steps=row["steps"])
     return best
+
+
+# issue 36's levers, each on top of the ones before it (a study run as the
+# workflow runs it, in one process: committed samples, the study's numerics)
+PAST_PEAK = "loading.bending.past_peak={drop: 0.05, after: 1.0e-4, at_most: 2.0e-4}"
+LEVERS = {"before": ["numerics.cells=[6, 3, 2]"],
+          "past_peak": ["numerics.cells=[6, 3, 2]", PAST_PEAK],
+          "cells_4x3x2": ["numerics.cells=[4, 3, 2]", PAST_PEAK]}
+
+
+def lever_times(n=6, levels=(0.0, 0.5)):
+    """Per lever (LEVERS): the mean wall time and steps of the study's runs
+    of the first ``n`` committed non-spatial samples at ``levels``, and
+    their P_max's mean change against 'before' (its runs first, so that all
+    run with warm kernels)."""
+    import pandas as pd
+    from gate import W, run_one
+    table = pd.read_parquet("results/study/samples_nonspatial.parquet")
+    samples = [{k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in table.iloc[i].to_dict().items()}
+               for i in range(n)]
+    run_one(W, TINY + ["numerics.cells=[1, 1, 1]"], samples[0], "nonspatial")     # kernels loaded
+    out, base = {}, None
+    for name, overrides in LEVERS.items():
+        rows = []
+        for sample in samples:
+            for sv in levels:
+                t0 = time.perf_counter()
+                row, _ = run_one(W, overrides + [f"loading.precompression.pressure={sv * 1e6}"], sample,
+                                 "nonspatial")
+                rows.append((time.perf_counter() - t0, row["steps"], row["P_max_kN"], row["failure_mode"]))
+        wall, steps, p, mode = (np.array(x) for x in zip(*rows))
+        base = (wall, steps, p, mode) if base is None else base
+        out[name] = dict(run_s=round(float(wall.mean()), 3), steps=int(steps.mean()),
+                         time_ratio=round(float(wall.sum() / base[0].sum()), 3),
+                         P_max_change_pct=round(float(100 * np.mean(p / base[2] - 1)), 3),
+                         P_max_max_change_pct=round(float(100 * np.max(np.abs(p / base[2] - 1))), 3),
+                         same_mode=int((mode == base[3]).sum()), runs=len(rows))
+    return out
 
 
 def main(tiny=False):
@@ -199,6 +244,8 @@ def main(tiny=False):
                                              if k.startswith(("ns_", "steps_", "cracked"))}
     out = dict(models["elasto-plastic"])
     out.update(kernel_load_s=round(load_s, 3), import_s=round(import_s, 3), job=job_times(tiny), models=models)
+    if not tiny:
+        out["levers"] = lever_times()
     print(json.dumps(out))
 
 

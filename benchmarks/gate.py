@@ -83,11 +83,11 @@ def run_one(scene_file, overrides, sample=None, variant=None):
     from masonrydem.protocol import simulate
     from masonrydem.results import curve, outcome_row
     from masonrydem.scene import validate_scene
-    from masonrydem.study import apply_sample
+    from masonrydem.study import apply_sample, willis_record
     raw = apply_overrides(read_scene(scene_file), overrides)
     labels = {}
     if sample is not None:
-        apply_sample(raw, sample, variant)
+        apply_sample(raw, willis_record(sample, variant), variant)
         labels = dict(variant=variant, sample=int(sample["sample"]))
     outcome = simulate(validate_scene(raw), progress=False)
     return asdict(outcome_row(outcome, **labels)), curve(outcome)

@@ -5,6 +5,7 @@ import pandas as pd
 import pytest
 
 from masonrydem import analysis as A
+from masonrydem import equations as E
 from masonrydem import validation as V
 
 
@@ -80,15 +81,15 @@ def test_lasso_recovers_known_coefficients():
     level (< 1 %) both fitted and out of fold.  (Against least squares
     itself and the Lasso's optimality: tests/test_regression.py.)"""
     f_tu, f_tj, sv, y, sample, _ = _study_like(0, 100, 0.01)
-    eq = A.fit_equation(f_tu, f_tj, sv, y, sample)
-    X1 = np.column_stack([np.ones(y.size), A.features(f_tu, f_tj, sv)])
+    eq = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y, sample)
+    X1 = np.column_stack([np.ones(y.size), E.features(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv))])
     se = 0.01 * np.sqrt(np.diag(np.linalg.inv(X1.T @ X1)))
-    got = np.array([eq["intercept"], *(eq["coef"][k] for k in A.FEATURES)])
+    got = np.array([eq["intercept"], *(eq["coef"][k] for k in E.FEATURES)])
     law = np.array([0.4, 0.0, 2.0, 0.05, 0.0, 0.9])       # intercept, f_tu, f_tj, f_tu^2, f_tj^2, sigma_v
     assert np.all(np.abs(got - law) <= 4 * se), (got - law) / se
     assert eq["mape"] < 1.0 and eq["cv_mape"] < 1.0
-    np.testing.assert_allclose(A.predict(eq, f_tu, f_tj, sv), eq["fitted"], rtol=1e-10)
-    assert "f_tj" in A.equation_text(eq)
+    np.testing.assert_allclose(E.predict(eq, dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv)), eq["fitted"], rtol=1e-10)
+    assert "f_tj" in E.equation_text(eq)
 
 
 def test_out_of_fold_prediction_never_sees_its_own_sample():
@@ -97,13 +98,13 @@ def test_out_of_fold_prediction_never_sees_its_own_sample():
     sample 3 leaves its own predictions unchanged, and changes the fitted
     equation's.  Noise-free, both MAPEs are small."""
     f_tu, f_tj, sv, y, sample, law = _study_like(1, 12, 0.05)
-    a = A.fit_equation(f_tu, f_tj, sv, y, sample)
+    a = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y, sample)
     y2 = np.where(sample == 3, y + 5.0, y)
-    b = A.fit_equation(f_tu, f_tj, sv, y2, sample)
+    b = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y2, sample)
     mine = sample == 3
     np.testing.assert_allclose(b["cv_predicted"][mine], a["cv_predicted"][mine], rtol=1e-12)
     assert np.all(np.abs(b["fitted"][mine] - a["fitted"][mine]) > 1e-3)
-    exact = A.fit_equation(f_tu, f_tj, sv, law, sample)
+    exact = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), law, sample)
     assert exact["mape"] < 1.0 and exact["cv_mape"] < 1.0
 
 
@@ -111,10 +112,10 @@ def test_too_few_samples_for_nested_cv():
     """Nested 5-fold CV needs 7 samples (each inner fit 5 of the outer 4/5):
     6 are refused with the reason, 7 fit."""
     f_tu, f_tj, sv, y, sample, _ = _study_like(2, 7, 0.01)
-    A.fit_equation(f_tu, f_tj, sv, y, sample)
+    E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y, sample)
     six = sample < 6
     with pytest.raises(ValueError, match="at least 7"):
-        A.fit_equation(f_tu[six], f_tj[six], sv[six], y[six], sample[six])
+        E.fit_equation(dict(f_tu=f_tu[six], f_tj=f_tj[six], sigma_v=sv[six]), y[six], sample[six])
 
 
 def test_prediction_over_samples():
@@ -123,11 +124,12 @@ def test_prediction_over_samples():
     the scatter 2 SD(f_tj); at 0.5 MPa the brick one (-10, the same for all)
     is lower: mean -10, no scatter.  At 0.2 MPa the brick equation gives 2
     and the mean is E[min(2 f_tj, 2)], below min(2 mean(f_tj), 2) (Jensen)."""
-    zero = {k: 0.0 for k in A.FEATURES}
+    zero = {k: 0.0 for k in E.FEATURES}
     joint = dict(intercept=0.0, coef={**zero, "f_tj": 2.0})
     brick = dict(intercept=10.0, coef={**zero, "sigma_v": -40.0})
     f_tj = np.random.default_rng(2).lognormal(np.log(0.3), 0.4, 100) * 3
-    mean, sd = A.prediction_over_samples(joint, brick, np.full(100, 3.75), f_tj, [0.0, 0.5, 0.2])
+    samples = dict(f_tu=np.full(100, 3.75), f_tj=f_tj)
+    mean, sd = E.prediction_over_samples(joint, brick, samples, "sigma_v", [0.0, 0.5, 0.2])
     np.testing.assert_allclose(mean[:2], [2.0 * np.mean(f_tj), -10.0], rtol=1e-14)
     np.testing.assert_allclose(sd[:2], [2.0 * np.std(f_tj, ddof=1), 0.0], atol=1e-12)
     np.testing.assert_allclose(mean[2], np.mean(np.minimum(2.0 * f_tj, 2.0)), rtol=1e-14)
@@ -135,9 +137,9 @@ def test_prediction_over_samples():
 
 
 def test_lower_of_two():
-    joint = dict(intercept=1.0, coef={k: 0.0 for k in A.FEATURES})
-    brick = dict(intercept=0.0, coef={**{k: 0.0 for k in A.FEATURES}, "sigma_v": 4.0})
-    s, mode = A.lower_of_two(joint, brick, [3.75] * 3, [0.3] * 3, [0.0, 0.25, 0.5])
+    joint = dict(intercept=1.0, coef={k: 0.0 for k in E.FEATURES})
+    brick = dict(intercept=0.0, coef={**{k: 0.0 for k in E.FEATURES}, "sigma_v": 4.0})
+    s, mode = E.lower_of_two(joint, brick, dict(f_tu=[3.75] * 3, f_tj=[0.3] * 3, sigma_v=[0.0, 0.25, 0.5]))
     assert s.tolist() == [0.0, 1.0, 1.0] and mode.tolist() == ["brick", "joint", "joint"]
 
 
@@ -160,7 +162,7 @@ def test_one_solver_version():
                              solver_version=["0.1.0+aaa", "0.1.0+aaa", None, "0.1.0+aaa"]))
     assert A.check_one_solver(runs) == "0.1.0+aaa"
     runs.loc[1, "solver_version"] = "0.1.0+bbb"
-    with pytest.raises(ValueError, match=r"spatial/sv0.15/s1 \(0.1.0\+bbb\)"):
+    with pytest.raises(ValueError, match=r"spatial/0.15 MPa/s1 \(0.1.0\+bbb\)"):
         A.check_one_solver(runs)
 
 
@@ -182,9 +184,12 @@ def test_input_spread():
     assert cov["f_tu_mpa"] == 0.0 and A.input_spread(runs, "b")["f_tj_mpa"] == 0.0 and A.input_spread(runs, "c") == {}
 
 
-def test_scatter_level_is_the_nearest_to_a_quarter_MPa():
-    """The scatter plot's level: the study's level nearest 0.25 MPa, itself;
-    between levels, the nearer one."""
+def test_scatter_level_is_the_nearest_to_the_middle_of_the_range():
+    """The scatter plot's level: the study's level nearest the middle of
+    its range (0.25 MPa of 0 to 0.5), itself; between levels, the nearer
+    one; any swept setting by its column."""
     runs = pd.DataFrame(dict(sigma_v_mpa=[0.5, 0.0, 0.15, 0.25, 0.075]))
     assert A.scatter_level(runs) == 0.25
+    t = A.Level("t_mm", "t", "mm")
+    assert A.scatter_level(pd.DataFrame(dict(t_mm=[8.0, 10.0, 11.0, 16.0])), level=t) == 11.0
     assert A.scatter_level(runs, near=0.11) == 0.075 and A.scatter_level(runs, near=0.4) == 0.5

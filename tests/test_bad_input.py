@@ -64,7 +64,7 @@ CASES = [
     # --set
     ("set_malformed_value", None, ["--set", "numerics.cells=[3, 1"], "numerics.cells", "not valid YAML"),
     ("set_into_scalar", None, ["--set", "name.first=x"], "name.first", "not a section"),
-    ("set_into_list", None, ["--set", "numerics.cells.0=3"], "numerics.cells.0", "not a section"),
+    ("set_into_list", None, ["--set", "loading.bending.supports_x.0=0.1"], "loading.bending.supports_x.0", "not a section"),
     ("set_without_value", None, ["--set", "numerics.cells"], "--set", "path.to.key=value"),
     ("set_empty_key", None, ["--set", "numerics..cells=3"], "--set", "dotted path"),
     ("set_unknown_key", None, ["--set", "numerics.celss=[3, 1, 1]"], "numerics", "celss"),
@@ -82,7 +82,7 @@ CASES = [
     ("nested_too_deeply", "name: deep\ndescription: " + "[" * 3000 + "]" * 3000 + "\n", [], "scene", "nested"),
     ("duplicate_key", TEXT.replace("    E: 15.0e9\n", "    E: 15.0e9\n    E: 12.0e9\n"), [],
      "materials.units.E", "twice"),
-    ("duplicate_section", TEXT + "numerics:\n  cells: [3, 1, 1]\n", [], "numerics", "twice"),
+    ("duplicate_section", TEXT + "outputs:\n  state: true\n", [], "outputs", "twice"),
     # --out
     ("out_is_a_file", None, ["OUT={tmp}/file"], "--out", "is a file"),
     ("out_under_a_file", None, ["OUT={tmp}/file/run"], "--out", "under"),
@@ -278,7 +278,7 @@ def _set(config, dotted, value):
     ("numerics", ["numerics.cells=[0, 1, 1]"], "numerics", "numerics.cells.0"),
     ("numerics", ["numerics.safety=2"], "numerics", "numerics.safety"),
     ("numerics", ["loading.bending.loads_x=[0.05, 0.67]"], "numerics", "loading.bending.loads_x.0"),
-    ("study.precompression_mpa", [0.0, math.nan], "study.precompression_mpa.1", "finite"),
+    ("study.levels", [0.0, math.nan], "study.levels.1", "finite"),
     ("validation.precompression_mpa", [math.inf], "validation.precompression_mpa.0", "finite"),
     ("accuracy.tolerance", math.nan, "accuracy.tolerance", "finite"),
     ("validation.cases.0.overrides", ["materials.units.E=-1"], "validation.cases (", "materials.units.E"),

@@ -10,7 +10,9 @@ import pandas as pd
 import pytest
 
 from masonrydem import accuracy, analysis, captions, figures, validation
+from masonrydem import equations as E
 from masonrydem.sampling import STUDY_VARIABLES, sampling_check
+from masonrydem.studyfile import input_means
 
 REPORT = Path(__file__).parent.parent / "workflow" / "report"
 
@@ -102,11 +104,13 @@ def test_sampling_check_table_and_caption():
     cov = np.std([0.9, 1.0, 1.0, 1.1], ddof=1)
     assert check.set_index("variable").loc["E_b", "cov_sample"] == pytest.approx(cov)
     values = captions.sampling_check(check, achieved)
-    assert values["corr"] == 0.49 and values["other"] == pytest.approx(0.03)
+    assert values["targets"] == "E_b-f_tu target 0.5, achieved **0.490**" and values["other"] == pytest.approx(0.03)
     assert values["mean_dev"] == pytest.approx(5.0)
     # the largest COV deviation: f_tj's, 1, 1, 1.1, 1.1 x its mean against its target 0.4
     assert values["cov_dev"] == pytest.approx(100 * (1 - np.std([1, 1, 1.1, 1.1], ddof=1) / 1.05 / 0.4))
     assert "**0.490**" in fill("sampling_check", values)
+    # a study without a targeted correlation: every off-diagonal one is 'other'
+    assert captions.sampling_check(check, achieved, {}) == dict(values, targets="none targeted", other=0.49)
 
 
 def _runs():
@@ -198,14 +202,15 @@ def test_design_table_and_caption():
     """One joint equation sigma = 0.1 + sigma_v (as the lower of two it
     stands for both): at the mean properties it is 0.1 + sigma_v; the
     caption reads the table at the simulated levels (0.25 MPa interpolated)."""
-    eq = dict(intercept=0.1, coef=dict(zip(analysis.FEATURES, [0.0, 0.0, 0.0, 0.0, 1.0])))
+    eq = dict(intercept=0.1, coef=dict(zip(E.FEATURES, [0.0, 0.0, 0.0, 0.0, 1.0])))
     ns = pd.DataFrame(dict(sample=[0, 1, 0, 1], f_tu_mpa=[3.0, 4.0, 3.0, 4.0], f_tj_mpa=[0.2, 0.4, 0.2, 0.4],
                            sigma_v_mpa=[0.0, 0.0, 0.5, 0.5], strength_mpa=[0.1, 0.1, 0.6, 0.6]))
     geometry = dict(l_o=0.115, h_b=0.086, c_ratio=1.5)
     design = validation.design_table({"joint": (eq, ns.strength_mpa.to_numpy())}, ns, 0.0, np.array([0.0, 0.5]),
                                    geometry)
     assert design.prediction.tolist() == pytest.approx([0.1, 0.6]) and design.band_sd.tolist() == [0.0, 0.0]
-    f_tu, f_tj = analysis.mean_strengths()
+    means = input_means(STUDY_VARIABLES)
+    f_tu, f_tj = means["f_tu"], means["f_tj"]
     assert (f_tu, f_tj) == pytest.approx((3.75, 0.3))
     assert design.lg_stepped.iloc[0] == pytest.approx(1.5 * 0.3 * 0.115 / 0.086) and design.lg_brick.iloc[0] == 1.875
     simulated = pd.DataFrame({"mean": [0.35], "std": [0.05]}, index=pd.Index([0.25], name="sigma_v_mpa"))

@@ -148,7 +148,7 @@ def test_killed_group_job_rerun_finishes_only_what_is_missing(local, tmp_path):
         deadline = time.monotonic() + 1800
         while p.poll() is None and time.monotonic() < deadline:
             time.sleep(5)
-            done = list((res / "study" / "runs").glob("*/sv*/s*/curve.json"))
+            done = list((res / "study" / "runs").glob("*/sigma_v*/s*/curve.json"))
             if killed is None and len(done) >= 4:
                 q = subprocess.run(["squeue", "-h", "-t", "RUNNING", "-o", "%i %k"], capture_output=True, text=True)
                 ids = [x.split()[0] for x in q.stdout.splitlines() if x.split()[1:] == ["rule_simulations_simulate"]]
@@ -160,7 +160,7 @@ def test_killed_group_job_rerun_finishes_only_what_is_missing(local, tmp_path):
     log = out.read_text()
     assert killed, "the group job was never seen running: " + log[-3000:]
     assert p.returncode not in (0, None) and "Error in group simulations" in log, log[-3000:]
-    kept = len(list((res / "study" / "runs").glob("*/sv*/s*/curve.json")))
+    kept = len(list((res / "study" / "runs").glob("*/sigma_v*/s*/curve.json")))
     assert 4 <= kept < 32
     plan = subprocess.run(cmd + ["-n"], capture_output=True, text=True).stdout
     line = [x for x in plan.splitlines() if x.split()[:1] == ["simulate"]]

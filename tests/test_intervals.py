@@ -9,6 +9,7 @@ import pytest
 import yaml
 
 from masonrydem import analysis as A
+from masonrydem import equations as E
 from masonrydem import validation as V
 
 
@@ -65,7 +66,7 @@ def test_the_resampled_statistics_at_the_sample_itself_are_the_tables():
     ``statistics``, ``correlations`` and ``increase`` (pandas group-bys):
     two implementations, one answer."""
     runs = _runs()
-    levels, d = A._wide(runs, "nonspatial", A.INPUTS)
+    levels, d = A._wide(runs, "nonspatial", A.INPUTS, A.SIGMA_V)
     s = {k: v[0] for k, v in A._sample_statistics(d, np.arange(d["P"].shape[0])[None]).items()}
     st = A.statistics(runs).set_index(["mode", "sigma_v_mpa"])
     co = A.correlations(runs).set_index(["mode", "sigma_v_mpa"])
@@ -111,10 +112,10 @@ def test_equation_intervals_hold_the_true_coefficients():
     runs["failure_mode"] = "joint"
     runs["strength_mpa"] = 0.2 + 4.0 * runs.f_tj_mpa + 3.0 * runs.sigma_v_mpa + rng.normal(0, 0.02, len(runs))
     ok = runs[runs.ok]
-    ci = A.equation_intervals(ok, resamples=200, seed=0).set_index("mode").loc["joint"]
+    ci = E.equation_intervals(ok, resamples=200, seed=0).set_index("mode").loc["joint"]
     for term, true in (("intercept", 0.2), ("f_tj", 4.0), ("sigma_v", 3.0)):
         assert ci[f"{term}_lo"] <= true <= ci[f"{term}_hi"], (term, ci[f"{term}_lo"], ci[f"{term}_hi"])
-    X = np.column_stack([np.ones(len(ok)), A.features(ok.f_tu_mpa, ok.f_tj_mpa, ok.sigma_v_mpa)])
+    X = np.column_stack([np.ones(len(ok)), E.features(E.inputs_of(ok))])
     se = 0.02 * np.sqrt(np.linalg.inv(X.T @ X)[2, 2])
     assert 1 / 1.5 < (ci["f_tj_hi"] - ci["f_tj_lo"]) / (2 * 1.96 * se) < 1.5
 
@@ -132,11 +133,10 @@ def test_the_paper_equation_scores_zero_on_runs_it_generated(paper):
     runs = _runs(n=30, seed=4)
     for mode in ("joint", "brick"):
         sel = runs.failure_mode == mode
-        runs.loc[sel, "strength_mpa"] = A.predict(V.paper_equation(paper, mode), runs.f_tu_mpa[sel],
-                                                  runs.f_tj_mpa[sel], runs.sigma_v_mpa[sel])
+        runs.loc[sel, "strength_mpa"] = E.predict(V.paper_equation(paper, mode), E.inputs_of(runs[sel]))
     stats, _, inc = A.study_tables(runs, resamples=100, seed=0)
-    _, rows, _ = A.prediction_equations(runs[runs.ok])
-    eqs = pd.DataFrame(rows).merge(A.equation_intervals(runs[runs.ok], 50, 0), on="mode", how="left")
+    _, rows, _ = E.prediction_equations(runs[runs.ok])
+    eqs = pd.DataFrame(rows).merge(E.equation_intervals(runs[runs.ok], 50, 0), on="mode", how="left")
     card = V.paper_comparison(paper, runs, stats, inc, eqs, resamples=100, seed=0)
     eq10 = card[card.item.str.startswith("Eq. 10 on our runs")].set_index(["item", "mode"])
     for mode in ("joint", "brick"):

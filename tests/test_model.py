@@ -21,7 +21,8 @@ def test_wallette_joints_and_areas(cells):
     sub-contact areas sum to its overlap area exactly (1e-12), also where
     the meshes do not conform (3, 5 or 7 cells along a unit shifted by half a
     unit), and the total is 18 x 75 x 114 + 5 x 840 x 114 mm^2."""
-    b = build(validate_scene({"name": "t", "numerics": {"cells": list(cells)}})).assembly
+    b = build(validate_scene({"name": "t", "physics": {"blocks": "elasto-plastic"},
+                              "numerics": {"cells": list(cells), "subcontact_refine": 1}})).assembly
     head = [c for c in b.contacts if c.axis == 0]
     bed = [c for c in b.contacts if c.axis == 2]
     assert len(head) == 18 and len(bed) == 35
@@ -208,7 +209,8 @@ def test_joint_forces_gathered_per_node_add_what_a_scatter_adds():
     from numba import njit
 
     from masonrydem.kernels.joints import gather_forces
-    sc = build(validate_scene({"name": "t", "numerics": {"cells": [5, 2, 3]}})).assembly.joints
+    sc = build(validate_scene({"name": "t", "physics": {"blocks": "elasto-plastic"},
+                               "numerics": {"cells": [5, 2, 3], "subcontact_refine": 1}})).assembly.joints
     rng = np.random.default_rng(1)
     force = rng.standard_normal(sc.force.shape)
     f0 = rng.standard_normal((sc.gptr.size - 1, 3))

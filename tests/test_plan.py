@@ -4,7 +4,7 @@ project's own config."""
 import pytest
 import yaml
 
-from masonrydem import plan
+from masonrydem import InputError, plan
 
 NUMERICS = ["numerics.cells=[8, 6, 2]", "numerics.subcontact_refine=1", "loading.bending.rate=2.5e-8"]
 ACCURACY = dict(
@@ -146,23 +146,38 @@ def test_the_projects_config_plans_its_modelform_study():
 
 def test_specimens_and_study_pictures():
     config = {"specimens": [{"name": "t", "scene": "t.yaml", "overrides": []}],
-              "study": {"variants": ["nonspatial", "spatial"]}}
+              "study": {"file": "config/studies/willis.yaml"}}
     assert plan.specimen_cases(config) == {"t": {"name": "t", "scene": "t.yaml", "overrides": []}}
     assert plan.study_pictures(config) == [("nonspatial", "joint"), ("nonspatial", "brick"),
                                            ("spatial", "joint"), ("spatial", "brick")]
 
 
+def test_the_config_overrides_the_study_files_samples_seed_and_levels():
+    """config/smoke.yaml's study: the Willis study file with 8 samples, seed
+    1 and two levels (as quantities); the study file's own otherwise."""
+    base = plan.study({"study": {"file": "config/studies/willis.yaml"}})
+    smoke = plan.study({"study": {"file": "config/studies/willis.yaml", "samples": 8, "seed": 1,
+                                  "levels": ["0 MPa", "0.5 MPa"]}})
+    assert (base.samples, base.seed, plan.study_levels({"study": {"file": "config/studies/willis.yaml"}})) == \
+        (100, 20260101, [0.0, 0.075, 0.15, 0.25, 0.5])
+    assert (smoke.samples, smoke.seed, smoke.levels) == (8, 1, (0.0, 0.5e6))
+    assert smoke.variables == base.variables and smoke.rules == base.rules
+    with pytest.raises(InputError) as e:
+        plan.study({"study": {"file": "config/studies/willis.yaml", "levels": [0.15]}})
+    assert e.value.field == "study.levels.0" and "did you mean 0.15 MPa?" in str(e.value)
+
+
 def test_the_projects_config_plans_its_accuracy_study():
-    """config/config.yaml: per case the 8 path levels, 12 candidates, the
+    """config/config.yaml: per case the 8 path levels, 13 candidates, the
     defaults, 9 one-at-a-time values (plus two ratio_tol values under
     precompression) and the 17x8x6 path level at half the paths'
-    rate: 31 + 33 + 31 + 33 + 33 = 161 runs; the path levels run the
+    rate: 32 + 34 + 32 + 34 + 34 = 166 runs; the path levels run the
     elasto-plastic model at the paths' rate (2.5e-8 m per step, their
     overrides), the brick cases' at half of it (their path_overrides)."""
     from masonrydem.scene import load_scene
     config = yaml.safe_load(open("config/config.yaml"))
     runs = plan.accuracy_runs(config)
-    assert len(runs) == 161 and len(set(runs)) == 161
+    assert len(runs) == 166 and len(set(runs)) == 166
     assert {s for c, s in runs if c == "joint_sv0"} >= {"path_c17x8x6", "pc_c6x3x2_r121", "default", "rate_7.5e-08"}
     assert ("joint_sv05", "ratio_tol_1e-05") in runs and ("joint_sv0", "ratio_tol_1e-05") not in runs
     joint = load_scene(config["scene"], plan.accuracy_overrides(config, "joint_sv0", "path_c17x8x6"))

@@ -1,4 +1,4 @@
-"""The prediction equations (analysis.prediction_equations, fit_equation)
+"""The prediction equations (equations.prediction_equations, fit_equation)
 against independent computations: least squares with the Lasso's own
 optimality bound, hand-scored predictors on constructed runs."""
 import numpy as np
@@ -6,7 +6,7 @@ import pandas as pd
 import pytest
 from sklearn.linear_model import Lasso
 
-from masonrydem import analysis as A
+from masonrydem import equations as E
 
 LEVELS = np.array([0.0, 0.075, 0.15, 0.25, 0.5])
 
@@ -38,10 +38,10 @@ def test_lasso_against_least_squares_within_its_optimality_bound():
     features standardised by hand) gives the same coefficients."""
     f_tu, f_tj, sv, sample = _samples(3, 60)
     y = 0.4 + 2.0 * f_tj + 0.05 * f_tu ** 2 + 0.9 * sv + np.random.default_rng(4).normal(0, 0.01, sv.size)
-    eq = A.fit_equation(f_tu, f_tj, sv, y, sample)
+    eq = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y, sample)
     alpha = eq["alpha"]
-    Z, mean, scale = _standardised(A.features(f_tu, f_tj, sv))
-    b = np.array([eq["coef"][k] for k in A.FEATURES]) * scale
+    Z, mean, scale = _standardised(E.features(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv)))
+    b = np.array([eq["coef"][k] for k in E.FEATURES]) * scale
     b0 = eq["intercept"] + np.sum(b / scale * mean)
     g = Z.T @ (y - b0 - Z @ b) / len(y)
     active = b != 0
@@ -78,12 +78,12 @@ def test_each_mode_gets_its_own_equation():
     mode's equation recovers its own law (fitted MAPE below 0.5 %), not a
     mixture of the two (which would miss both by several per cent)."""
     ns = _runs(JOINT, BRICK, 12, 12)
-    fits, rows, _ = A.prediction_equations(ns)
+    fits, rows, _ = E.prediction_equations(ns)
     assert set(fits) == {"joint", "brick"}
     for mode, law in (("joint", JOINT), ("brick", BRICK)):
         g = ns[ns.failure_mode == mode]
-        pred = A.predict(fits[mode][0], g.f_tu_mpa, g.f_tj_mpa, g.sigma_v_mpa)
-        assert A.mape(law(g.f_tu_mpa, g.f_tj_mpa, g.sigma_v_mpa), pred) < 0.5, mode
+        pred = E.predict(fits[mode][0], dict(f_tu=g.f_tu_mpa, f_tj=g.f_tj_mpa, sigma_v=g.sigma_v_mpa))
+        assert E.mape(law(g.f_tu_mpa, g.f_tj_mpa, g.sigma_v_mpa), pred) < 0.5, mode
         np.testing.assert_array_equal(fits[mode][1], g.strength_mpa.to_numpy())
     table = pd.DataFrame(rows).set_index("mode")
     assert table.loc["joint", "n"] == table.loc["brick", "n"] == 60
@@ -96,9 +96,9 @@ def test_the_lower_of_two_row_scored_by_hand():
     simulated one) and residual SD (of simulated minus predicted, ddof 1)
     are those computed here by hand over every run."""
     ns = _runs(JOINT, BRICK, 10, 9)
-    fits, rows, resid_sd = A.prediction_equations(ns)
-    j = A.predict(fits["joint"][0], ns.f_tu_mpa, ns.f_tj_mpa, ns.sigma_v_mpa)
-    b = A.predict(fits["brick"][0], ns.f_tu_mpa, ns.f_tj_mpa, ns.sigma_v_mpa)
+    fits, rows, resid_sd = E.prediction_equations(ns)
+    j = E.predict(fits["joint"][0], dict(f_tu=ns.f_tu_mpa, f_tj=ns.f_tj_mpa, sigma_v=ns.sigma_v_mpa))
+    b = E.predict(fits["brick"][0], dict(f_tu=ns.f_tu_mpa, f_tj=ns.f_tj_mpa, sigma_v=ns.sigma_v_mpa))
     low = np.where(j <= b, j, b)
     mode = np.where(j <= b, "joint", "brick")
     y = ns.strength_mpa.to_numpy()
@@ -114,18 +114,18 @@ def test_a_mode_with_too_few_samples_is_not_fitted_and_the_other_stands_for_both
     equation, a row saying why, and the joint equation alone scores every
     run, the brick runs included."""
     ns = _runs(JOINT, BRICK, 10, 6)
-    fits, rows, resid_sd = A.prediction_equations(ns)
+    fits, rows, resid_sd = E.prediction_equations(ns)
     table = pd.DataFrame(rows).set_index("mode")
     assert set(fits) == {"joint"}
     assert table.loc["brick", "n"] == 30 and "too few runs to fit (6 samples" in table.loc["brick", "equation"]
     assert table.loc["lower of two", "equation"] == "the joint equation alone"
-    pred = A.predict(fits["joint"][0], ns.f_tu_mpa, ns.f_tj_mpa, ns.sigma_v_mpa)
+    pred = E.predict(fits["joint"][0], dict(f_tu=ns.f_tu_mpa, f_tj=ns.f_tj_mpa, sigma_v=ns.sigma_v_mpa))
     assert resid_sd == pytest.approx(np.std(ns.strength_mpa - pred, ddof=1), rel=1e-12)
     assert table.loc["lower of two", "mode_agreement"] == pytest.approx(10 / 16)
 
 
 def test_no_mode_with_enough_samples_fits_nothing():
-    fits, rows, resid_sd = A.prediction_equations(_runs(JOINT, BRICK, 6, 6))
+    fits, rows, resid_sd = E.prediction_equations(_runs(JOINT, BRICK, 6, 6))
     assert fits == {} and np.isnan(resid_sd) and [r["mode"] for r in rows] == ["joint", "brick"]
 
 
@@ -133,15 +133,15 @@ def test_the_folds_hold_whole_samples(monkeypatch):
     """prediction_equations passes each run's sample as its group (a fold
     holds a sample at every level), the mode's runs only."""
     seen = {}
-    real = A.fit_equation
+    real = E.fit_equation
 
-    def spy(f_tu, f_tj, sigma_v, strength, groups, **kw):
-        seen[len(seen)] = (np.asarray(groups).copy(), np.asarray(f_tu).copy())
-        return real(f_tu, f_tj, sigma_v, strength, groups, **kw)
+    def spy(inputs, strength, groups, *args, **kw):
+        seen[len(seen)] = (np.asarray(groups).copy(), np.asarray(inputs["f_tu"]).copy())
+        return real(inputs, strength, groups, *args, **kw)
 
-    monkeypatch.setattr(A, "fit_equation", spy)
+    monkeypatch.setattr(E, "fit_equation", spy)
     ns = _runs(JOINT, BRICK, 8, 8).sample(frac=1.0, random_state=0)        # rows shuffled
-    A.prediction_equations(ns)
+    E.prediction_equations(ns)
     for k, mode in enumerate(("joint", "brick")):
         g = ns[ns.failure_mode == mode]
         np.testing.assert_array_equal(seen[k][0], g["sample"].to_numpy())

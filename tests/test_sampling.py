@@ -103,3 +103,63 @@ def test_refining_the_correlation_only_reorders():
     for j in range(2):
         np.testing.assert_array_equal(np.sort(y[:, j]), np.sort(x[:, j]))
     assert np.corrcoef(y, rowvar=False)[0, 1] == pytest.approx(0.5, abs=0.02)
+
+
+def _field_study(length, n, rho=0.5):
+    from masonrydem.masonry import Geometry
+    from masonrydem.sampling import Variable, field_samples
+    g = Geometry(0.230, 0.065, 0.114, 0.010, 6, 4, 0.5)
+    normal = (Variable("a", "normal", 10.0, sd=2.0, per="unit"), Variable("b", "normal", 5.0, sd=1.0, per="unit"),
+              Variable("j", "normal", 1.0, sd=0.5, per="joint"))
+    table = field_samples(n, 11, normal, {("a", "b"): rho}, g.item_centres(), length)
+    return g, {k: np.array(table[k].tolist()) for k in ("a", "b", "j")}
+
+
+def test_a_random_field_has_the_exponential_correlation_between_items():
+    """Normal marginals, so the values' Pearson correlation is the Gaussian
+    one: between units at distance r it is exp(-r / l), between the two
+    variables at one unit rho = 0.5, and each item keeps its marginal.  Over
+    4000 fields the standard error of a correlation is at most 1/sqrt(4000)
+    = 0.016; the tolerance is three of them."""
+    g, x = _field_study(0.3, 4000)
+    xy = g.item_centres()["unit"]
+    for i, k in [(0, 1), (0, 4), (0, 23), (5, 9)]:
+        r = np.linalg.norm(xy[i] - xy[k])
+        assert np.corrcoef(x["a"][:, i], x["a"][:, k])[0, 1] == pytest.approx(np.exp(-r / 0.3), abs=0.05), (i, k)
+    assert np.corrcoef(x["a"][:, 7], x["b"][:, 7])[0, 1] == pytest.approx(0.5, abs=0.05)
+    assert x["a"].mean() == pytest.approx(10.0, abs=0.1) and x["a"][:, 3].std() == pytest.approx(2.0, rel=0.05)
+    assert x["j"].shape == (4000, 38) and x["j"][:, 0].std() == pytest.approx(0.5, rel=0.05)
+
+
+@pytest.mark.parametrize("length, within", [(1e9, 1e-3), (1e-6, None)])
+def test_a_random_field_spans_one_value_per_wallette_to_independent_items(length, within):
+    """A correlation length far beyond the wall gives every unit the same
+    value (the non-spatial draw): two items r apart differ by about
+    sd sqrt(2 r / l), 1e-4 sd for r = 1 m and l = 1e9 m (checked: the
+    range within a field under 1e-3 sd).  One far below the spacing of
+    units gives independent items (their correlation within four standard
+    errors, 4/sqrt(2000), of zero, over the 276 pairs)."""
+    _, x = _field_study(length, 2000)
+    if within is not None:
+        assert np.ptp(x["a"], axis=1).max() < within * 2.0
+    else:
+        c = np.corrcoef(x["a"], rowvar=False)
+        assert np.abs(c[np.triu_indices(24, 1)]).max() < 4 / np.sqrt(2000)
+
+
+def test_a_random_field_is_repeatable_from_its_seed():
+    _, a = _field_study(0.3, 5)
+    _, b = _field_study(0.3, 5)
+    assert all(np.array_equal(a[k], b[k]) for k in a)
+
+
+def test_item_centres_follow_the_numbering_of_units_and_joints():
+    """Units course by course; the first head joint between units 0 and 1
+    of course 0; the first bed plane under unit (1, 0), at the top of
+    course 0; course 1 shifted by half a modelled unit (0.12 m)."""
+    from masonrydem.masonry import Geometry
+    c = Geometry(0.230, 0.065, 0.114, 0.010, 6, 4, 0.5).item_centres()
+    np.testing.assert_allclose(c["unit"][[0, 1, 4]], [[0.12, 0.0375], [0.36, 0.0375], [0.24, 0.1125]])
+    np.testing.assert_allclose(c["joint"][0], [0.24, 0.0375])
+    np.testing.assert_allclose(c["joint"][18], [0.24, 0.075])
+    assert c["unit"].shape == (24, 2) and c["joint"].shape == (38, 2)

@@ -10,6 +10,8 @@ from masonrydem.scene import load_scene, validate_scene
 from masonrydem.specimen import build
 
 WILLIS = "config/scenes/willis.yaml"
+# one block per unit (no crack interfaces), as these numbering tests count
+ONE_BLOCK_PER_UNIT = {"physics": {"blocks": "elasto-plastic"}, "numerics": {"cells": [5, 2, 2], "subcontact_refine": 1}}
 
 
 def test_willis_scene_is_the_study_specimen():
@@ -67,8 +69,8 @@ def test_joint_numbering_and_per_joint_values():
     unit of courses 1-5; a bed plane touching two lower units is one joint.
     Per-joint f_tj reach exactly the sub-contacts of their joint."""
     ft = np.linspace(0.1e6, 0.8e6, 38)
-    sc = validate_scene({"name": "t", "materials": {"per_joint": {"ft": ft.tolist()},
-                                                    "joints": {"GI_per_ft": 3.0e-5}}})
+    sc = validate_scene({"name": "t", **ONE_BLOCK_PER_UNIT, "materials": {"per_joint": {"ft": ft.tolist()},
+                                                                          "joints": {"GI_per_ft": 3.0e-5}}})
     sp = build(sc)
     a, par = sp.assembly, sp.assembly.joints.par
     for c, j in zip(a.contacts, sp.contact_joint):
@@ -89,7 +91,7 @@ def test_joint_numbering_and_per_joint_values():
 def test_joint_stiffness_follows_mean_unit_modulus():
     """A joint's k_n uses the mean E_b of the two units it connects."""
     E = np.where(np.arange(24) % 2, 10e9, 20e9)
-    sp = build(validate_scene({"name": "t", "materials": {"per_unit": {"E": E.tolist()}}}))
+    sp = build(validate_scene({"name": "t", **ONE_BLOCK_PER_UNIT, "materials": {"per_unit": {"E": E.tolist()}}}))
     par = sp.assembly.joints.par
     for c in sp.assembly.contacts:
         expected = joint_kn(0.5 * (E[c.block_a] + E[c.block_b]), 0.1, 0.01)
@@ -131,3 +133,27 @@ def test_precompression_force_and_where_it_acts(spreader):
     assert np.sum(fz * x) / np.sum(fz) == pytest.approx(0.540 if spreader else 0.600, abs=1e-9)
     end = np.isin(b.block_of_node, np.flatnonzero(sp.block_unit == sp.units.index((5, 3))))   # its blocks
     assert np.sum(fz[end] * x[end]) / np.sum(fz[end]) == pytest.approx(0.900 if spreader else 0.960, abs=1e-9)
+
+
+def test_a_scene_without_numerics_runs_at_the_accuracy_studys_choice(tmp_path):
+    """One source of numerical defaults: the accuracy study's 'default'
+    setting is the study's scene with no numerics of its own, so the
+    schema's defaults are what it measured; choice.csv marks that setting
+    as chosen and within 2 % of every reference with the right modes.  The
+    candidates next to it (config.yaml: pc_c4x3x2_r1 is the defaults with
+    subcontact_refine=1) name the same cells, 4 x 3 x 2 along, through and
+    up a unit.  A scene that says nothing about its physics or numerics
+    gets exactly these."""
+    import pandas as pd
+    import yaml
+    assert "numerics" not in yaml.safe_load(open(WILLIS))
+    choice = pd.read_csv("results/accuracy/choice.csv")
+    chosen = choice[choice["default"]]
+    assert list(chosen.setting) == ["default"]
+    assert chosen.ok.item() and chosen.modes_ok.item() and chosen.max_abs_error.item() <= 0.02
+    bare = tmp_path / "bare.yaml"
+    bare.write_text("name: bare\n")
+    sc = load_scene(str(bare))
+    assert sc.physics.blocks == "potential-crack"
+    assert sc.numerics == load_scene(WILLIS).numerics
+    assert (sc.numerics.cells, sc.numerics.elastic_element, sc.numerics.refine.head) == ((4, 3, 2), "hex8i", (1, 2, 1))

@@ -6,7 +6,7 @@ from masonrydem import kernels as K
 from masonrydem.sampling import study_samples
 from masonrydem.masonry import joint_kn
 from masonrydem.specimen import build
-from masonrydem.study import study_scene
+from masonrydem.study import study_scene, willis_record
 
 # the source paper's elasto-plastic units, whose zones carry the unit's properties
 BASE = "config/scenes/willis.yaml"
@@ -24,7 +24,7 @@ def test_nonspatial_sample_reaches_every_zone_and_joint():
     c_j = 1.2 f_tj, w_u = 2 G_I / f_t = 2 x 0.03e-3 m (G_I = 0.03 f_tj),
     s_u = 2 G_II / c = 2 x 10 x 0.03e-3 / 1.2 m, tan(phi_j), k_n(E_b)."""
     s = dict(sample=3, f_tj=0.25e6, f_tu=4.2e6, phi_j=33.0, E_b=12e9)
-    sp = build(study_scene(BASE, OVERRIDES + [_pressure(0.25e6)], s, "nonspatial"))
+    sp = build(study_scene(BASE, OVERRIDES + [_pressure(0.25e6)], willis_record(s, "nonspatial"), "nonspatial"))
     b = sp.assembly
     zp, jp = b.zones.par, b.joints.par
     G = 12e9 / 2.4
@@ -46,7 +46,7 @@ def test_spatial_sample_per_unit_and_joint():
     joint j's sub-contacts its own f_tj, phi_j and G_I(f_tj)."""
     _, spatial, _ = study_samples(2, seed=11)
     s = spatial.iloc[1]
-    sp = build(study_scene(BASE, OVERRIDES + [_pressure(0.0)], s, "spatial"))
+    sp = build(study_scene(BASE, OVERRIDES + [_pressure(0.0)], willis_record(s.to_dict(), "spatial"), "spatial"))
     b = sp.assembly
     start = 0
     for blk in b.blocks:
@@ -65,4 +65,6 @@ def test_spatial_sample_per_unit_and_joint():
 
 def test_unknown_variant():
     with pytest.raises(ValueError):
-        study_scene(BASE, OVERRIDES + [_pressure(0.0)], dict(sample=0), "mixed")
+        willis_record(dict(sample=0), "mixed")
+    with pytest.raises(ValueError):      # a record without its settings (an older samples file)
+        study_scene(BASE, OVERRIDES + [_pressure(0.0)], dict(sample=0, f_tj=0.3e6), "nonspatial")

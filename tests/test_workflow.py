@@ -43,10 +43,10 @@ def test_smoke_study_outputs(smoke):
     # of its own curve kept
     per_run = curves.groupby(["variant", "sigma_v_mpa", "sample"]).load_kN
     assert per_run.size().max() <= yaml.safe_load(open("config/config.yaml"))["study"]["curve_points"] + 1
-    paths = list((smoke / "study" / "runs").glob("*/sv*/s*/curve.json"))
+    paths = list((smoke / "study" / "runs").glob("*/sigma_v*/s*/curve.json"))
     assert len(paths) == 32
     for path in paths:
-        variant, sv, sample = path.parts[-4], float(path.parts[-3][2:]), int(path.parts[-2][1:])
+        variant, sv, sample = path.parts[-4], float(path.parts[-3][len("sigma_v"):]), int(path.parts[-2][1:])
         raw = json.loads(path.read_text())
         assert per_run.max()[(variant, sv, sample)] == np.float32(max(raw["load_kN"])), path
     # same samples at every level: the inputs of a sample do not depend on sigma_v
@@ -69,24 +69,26 @@ def test_smoke_prediction_equations(smoke):
     non-spatial run; and the design table's prediction at 0 MPa is the
     lower of the written equations at the mean strengths, its band
     sqrt(property_sd^2 + residual_sd^2)."""
-    from masonrydem import analysis as A
+    from masonrydem import equations as E
+    from masonrydem.sampling import STUDY_VARIABLES
+    from masonrydem.studyfile import input_means
     eq = pd.read_csv(smoke / "study" / "equations.csv").set_index("mode")
     runs = pd.read_parquet(smoke / "study" / "runs.parquet")
     ns = runs[runs.ok & (runs.variant == "nonspatial")]
     fitted = eq[eq.alpha.notna()]
     assert len(fitted) >= 1
-    equations = {m: dict(intercept=r.intercept, coef={k: r[k] for k in A.FEATURES}) for m, r in fitted.iterrows()}
+    equations = {m: dict(intercept=r.intercept, coef={k: r[k] for k in E.FEATURES}) for m, r in fitted.iterrows()}
     for mode, e in equations.items():
         g = ns[ns.failure_mode == mode]
-        assert A.mape(g.strength_mpa, A.predict(e, g.f_tu_mpa, g.f_tj_mpa, g.sigma_v_mpa)) == pytest.approx(
-            eq.loc[mode, "mape_pct"], rel=1e-4), mode
+        predicted = E.predict(e, E.inputs_of(g))
+        assert E.mape(g.strength_mpa, predicted) == pytest.approx(eq.loc[mode, "mape_pct"], rel=1e-4), mode
     joint, brick = equations.get("joint", equations.get("brick")), equations.get("brick", equations.get("joint"))
-    low, _ = A.lower_of_two(joint, brick, ns.f_tu_mpa, ns.f_tj_mpa, ns.sigma_v_mpa)
+    low, _ = E.lower_of_two(joint, brick, E.inputs_of(ns))
     assert eq.loc["lower of two", "n"] == len(ns)
-    assert A.mape(ns.strength_mpa, low) == pytest.approx(eq.loc["lower of two", "mape_pct"], rel=1e-4)
+    assert E.mape(ns.strength_mpa, low) == pytest.approx(eq.loc["lower of two", "mape_pct"], rel=1e-4)
     design = pd.read_csv(smoke / "study" / "design_comparison.csv").set_index("sigma_v_mpa")
-    f_tu, f_tj = A.mean_strengths()
-    at_mean, _ = A.lower_of_two(joint, brick, [f_tu], [f_tj], [0.0])
+    means = input_means(STUDY_VARIABLES)
+    at_mean, _ = E.lower_of_two(joint, brick, dict(f_tu=[means["f_tu"]], f_tj=[means["f_tj"]], sigma_v=[0.0]))
     assert design.loc[0.0, "prediction"] == pytest.approx(at_mean[0], rel=1e-4)
     np.testing.assert_allclose(design.band_sd, np.hypot(design.property_sd, eq.loc["lower of two", "residual_sd_mpa"]),
                                rtol=1e-4)
@@ -183,6 +185,59 @@ def test_a_setting_sampling_does_not_read_reruns_no_simulation(smoke, tmp_path):
     assert "collect" in planned and not planned & {"sample", "simulate"}, r.stdout[-2000:]
 
 
+SWEEP_STUDY = """
+name: joints
+scene: config/scenes/willis.yaml
+samples: 8
+seed: 3
+variables:
+  f_tj: {setting: materials.joints.ft, per: joint, distribution: lognormal, mean: 0.30 MPa, cov: 0.40}
+  f_tu: {setting: materials.units.ft, per: unit, distribution: lognormal, mean: 3.75 MPa, cov: 0.25}
+variants:
+  nonspatial: {draw: wallette}
+rules:
+  materials.units.Gf_rule: {coefficient: 0.04, exponent: 0.7}
+  materials.joints.GI_per_ft: 0.03 mm
+  materials.joints.Em_ratio: 0.1
+sweep: {setting: geometry.joint_thickness, name: t, levels: [8 mm, 14 mm]}
+regression:
+  features: [f_tu, f_tj, t, f_tj*t]
+"""
+
+
+def test_a_study_that_sweeps_another_setting(tmp_path):
+    """A study file that sweeps the joint thickness (not the precompression)
+    with terms of its own runs end to end at the smoke's numerics: the runs'
+    folders are named by the sweep (t8.0), the runs table has the column
+    t_mm from those folders, the statistics are per t_mm, the equations
+    have the study's terms and the predictor takes t in mm; the design
+    comparison, which needs the precompression, says why it is absent."""
+    (tmp_path / "joints.yaml").write_text(SWEEP_STUDY)
+    (tmp_path / "workflow.yaml").write_text(yaml.safe_dump(dict(
+        results=str(tmp_path / "results"), study=dict(file=str(tmp_path / "joints.yaml"), levels=["8 mm", "14 mm"],
+                                                      paper=None))))
+    r = subprocess.run(SNAKEMAKE + ["study", "--cores", "2", "--configfile", "config/smoke.yaml",
+                                    str(tmp_path / "workflow.yaml"), "-q"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    out = tmp_path / "results" / "study"
+    assert sorted(p.name for p in (out / "runs" / "nonspatial").iterdir()) == ["t14.0", "t8.0"]
+    runs = pd.read_parquet(out / "runs.parquet")
+    assert len(runs) == 16 and runs.groupby("t_mm").size().to_dict() == {8.0: 8, 14.0: 8}
+    assert set(runs.sigma_v_mpa) == {0.0}           # the scene's precompression, not swept
+    st = pd.read_csv(out / "statistics.csv")
+    assert set(st.t_mm) == {8.0, 14.0} and "sigma_v_mpa" not in st
+    for t, g in runs[runs.ok].groupby("t_mm"):
+        row = st[(st.t_mm == t) & (st["mode"] == "all")].iloc[0]
+        assert row["count"] == len(g) and row.P_max_mean_kN == pytest.approx(g.P_max_kN.mean(), rel=1e-3)
+    eq = pd.read_csv(out / "equations.csv")
+    assert {"f_tu", "f_tj", "t", "f_tj*t"} <= set(eq.columns)
+    predictor = json.loads((out / "predictor.json").read_text())
+    assert predictor["inputs"]["t"] == dict(unit="m", shown="mm", column="t_mm")
+    assert predictor["fitted_range"]["t"] == [8.0, 14.0]
+    assert "sweeps geometry.joint_thickness" in (out / "design_comparison.csv").read_text()
+    assert "levels of t (8, 14 mm)" in (tmp_path / "results" / "report" / "workflow.rst").read_text()
+
+
 def test_full_study_plans_1000_simulations(tmp_path):
     r = subprocess.run(SNAKEMAKE + ["-n", "--config", f"results={tmp_path}"], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr[-2000:]
@@ -216,13 +271,15 @@ def test_a_simulation_that_raises_is_recorded(tmp_path):
     and count such rows: tests/test_analysis.py)."""
     from masonrydem.results import write_json
     from masonrydem.sampling import records, study_samples
+    from masonrydem.study import willis_record
     smoke = yaml.safe_load(open("config/smoke.yaml"))["study"]
     root = tmp_path / "results"
     (root / "study").mkdir(parents=True)
-    nonspatial, _, _ = study_samples(smoke["n_samples"], smoke["seed"])
+    nonspatial, _, _ = study_samples(smoke["samples"], smoke["seed"])
     nonspatial.loc[nonspatial["sample"] == 0, "f_tj"] = -1e5
-    write_json(root / "study" / "samples_nonspatial.json", records(nonspatial))
-    target = root / "study" / "runs" / "nonspatial" / "sv0.0" / "s0" / "result.json"
+    write_json(root / "study" / "samples_nonspatial.json",
+               [willis_record(r, "nonspatial") for r in records(nonspatial)])
+    target = root / "study" / "runs" / "nonspatial" / "sigma_v0.0" / "s0" / "result.json"
     r = subprocess.run(SNAKEMAKE + [str(target), "--cores", "1", "--allowed-rules", "simulate", "--configfile",
                                     "config/smoke.yaml", "--config", f"results={root}"], capture_output=True, text=True)
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
@@ -380,7 +437,7 @@ def test_a_numerics_change_reruns_every_run_and_a_new_level_only_its_own(smoke, 
                                      + ["numerics.record_every=20"]}))
     planned = _planned(smoke, [str(extra)])
     assert planned.get("simulate") == 32 and planned.get("validation_run") == 1, planned
-    extra.write_text(yaml.safe_dump({"study": {"precompression_mpa": [0.0, 0.25, 0.5]}}))
+    extra.write_text(yaml.safe_dump({"study": {"levels": ["0 MPa", "0.25 MPa", "0.5 MPa"]}}))
     planned = _planned(smoke, [str(extra)])
     assert planned.get("simulate") == 16 and "validation_run" not in planned, planned
 
@@ -396,7 +453,7 @@ def test_an_interrupted_run_resumes_with_what_is_missing(tmp_path):
     cmd = SNAKEMAKE + [f"{root}/study/runs.parquet", "--cores", "2", "--configfile", "config/smoke.yaml",
                        "--config", f"results={root}"]
     def finished():     # simulations with both outputs
-        return sum((d / "curve.json").exists() for d in (r.parent for r in root.glob("study/runs/*/sv*/s*/result.json")))
+        return sum((r.parent / "curve.json").exists() for r in root.glob("study/runs/*/sigma_v*/s*/result.json"))
 
     # Ctrl-C in a terminal interrupts the whole foreground process group:
     # Snakemake and the simulations it runs
@@ -432,3 +489,22 @@ def test_an_interrupted_run_resumes_with_what_is_missing(tmp_path):
     assert planned.get("simulate") == 32 - done, r.stdout[-2000:]
     assert subprocess.run(cmd, capture_output=True).returncode == 0
     assert len(pd.read_parquet(root / "study" / "runs.parquet")) == 32
+
+
+def test_a_further_study_gets_a_report_page_that_states_its_numbers(tmp_path):
+    """config further_studies: the NF study's committed tables become one
+    page of the report (statistics, then equations), and its caption gives
+    the non-spatial means and the equations as its statistics.csv and
+    equations.csv hold them."""
+    r = subprocess.run(SNAKEMAKE + [f"{tmp_path}/report/studies/nf.html", "--cores", "1",
+                                    "--config", f"results={tmp_path}"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
+    page = (tmp_path / "report" / "studies" / "nf.html").read_text()
+    caption = (tmp_path / "report" / "further_study_nf.rst").read_text()
+    st = pd.read_csv("results/studies/nf/study/statistics.csv")
+    eq = pd.read_csv("results/studies/nf/study/equations.csv")
+    assert page.count("<table") == 2 and page.count("</html>") == 1
+    assert page.count("<tr>") >= len(st) + len(eq)
+    for row in st[(st.variant == "nonspatial") & (st["mode"] == "all")].itertuples():
+        assert f"{row.sigma_v_mpa:g} MPa: {row.P_max_mean_kN:.2f} kN" in caption
+    assert eq.set_index("mode").equation["joint"] in caption

@@ -9,16 +9,17 @@ __version__ = "0.1.0"
 
 # A module that does not decide what a simulation computes (the analysis of
 # results, figures, the workflow's planning) says so itself, with a line
-# 'ANALYSIS_ONLY = True': a new one is then left out of the source hash
-# without a change here.
-_MARK = b"\nANALYSIS_ONLY = True"
+# 'ANALYSIS_ONLY = True' (a data file: '# ANALYSIS_ONLY = True'): a new one
+# is then left out of the source hash without a change here.
+_MARKS = {".py": b"\nANALYSIS_ONLY = True", ".yaml": b"\n# ANALYSIS_ONLY = True"}
 
 
 def __getattr__(name):
-    """masonrydem.ANALYSIS_ONLY: the names of the modules marked analysis-only."""
+    """masonrydem.ANALYSIS_ONLY: the names of the files marked analysis-only."""
     if name == "ANALYSIS_ONLY":
         from pathlib import Path
-        return tuple(sorted(p.name for p in Path(__file__).parent.glob("*.py") if _MARK in p.read_bytes()))
+        return tuple(sorted(p.name for p in Path(__file__).parent.iterdir()
+                            if p.suffix in _MARKS and _MARKS[p.suffix] in p.read_bytes()))
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 

@@ -10,6 +10,8 @@ import pandas as pd
 
 from . import accuracy
 from . import analysis as A
+from .sampling import STUDY_VARIABLES
+from .studyfile import input_means
 
 ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
 
@@ -101,57 +103,65 @@ def specimens(table):
 
 
 # --- the stochastic study ---------------------------------------------------------
-def sampling_check(check, achieved):
+def sampling_check(check, achieved, correlations=None):
     """sampling.sampling_check's table and the achieved correlation matrix
-    (rows and columns in the table's order): the induced E_b-f_tu
-    correlation, the largest other one, and the largest relative deviation
-    of the sample means and COVs from their targets."""
+    (rows and columns in the table's order): each targeted correlation
+    (``correlations``: (name, name) -> rho; the Willis study's E_b-f_tu 0.5
+    by default) as achieved, the largest other one, and the largest
+    relative deviation of the sample means and COVs from their targets."""
+    from .sampling import STUDY_CORRELATIONS
+    correlations = STUDY_CORRELATIONS if correlations is None else correlations
     names = list(check.variable)
-    i, j = names.index("E_b"), names.index("f_tu")
     others = np.abs(achieved - np.eye(len(names)))
-    others[i, j] = others[j, i] = 0.0
-    return dict(corr=achieved[i, j], other=others.max(),
+    pairs = []
+    for (a, b), rho in correlations.items():
+        i, j = names.index(a), names.index(b)
+        others[i, j] = others[j, i] = 0.0
+        pairs.append(f"{a}-{b} target {rho:g}, achieved **{achieved[i, j]:.3f}**")
+    return dict(targets="; ".join(pairs) if pairs else "none targeted", other=others.max(),
                 mean_dev=100 * (check.mean_sample / check.mean_target - 1).abs().max(),
                 cov_dev=100 * (check.cov_sample / check.cov_target - 1).abs().max())
 
 
-def landing(runs, stats, excluded):
+def landing(runs, stats, excluded, level=A.SIGMA_V, inputs=A.INPUTS):
     """The report's landing page (workflow.rst): what was run, how, and the
     study's key table (mean P_max, COV, brick share per variant and level)."""
-    rows = [(r.variant, f"{r.sigma_v_mpa:g}", f"{r.P_max_mean_kN:.2f}", f"{r.strength_mean_mpa:.3f}",
+    rows = [(r.variant, f"{getattr(r, level.column):g}", f"{r.P_max_mean_kN:.2f}", f"{r.strength_mean_mpa:.3f}",
              _num(r.P_max_cov, ".3f"), f"{100 * r.brick_share:.0f}", str(r.count))
             for r in stats[stats["mode"] == "all"].itertuples()]
-    head = ("variant", "sigma_v (MPa)", "mean P_max (kN)", "strength (MPa)", "COV", "brick (%)", "runs")
+    head = ("variant", f"{level.name} ({level.unit})".replace(" ()", ""), "mean P_max (kN)", "strength (MPa)", "COV",
+            "brick (%)", "runs")
     widths = [max(len(x) for x in col) for col in zip(head, *rows)]
     rule = "  ".join("=" * w for w in widths)
     line = lambda cells: "  ".join(c.ljust(w) for c, w in zip(cells, widths)).rstrip()  # noqa: E731
-    levels = sorted(runs.sigma_v_mpa.unique())
+    levels = sorted(runs[level.column].unique())
 
     def one(col):
         vals = runs[col].dropna().astype(str).unique() if col in runs else []
         return ", ".join(vals) if len(vals) else "not recorded (rows of an older format)"
 
     return dict(total=len(runs), variants=runs.variant.nunique(), n_samples=runs["sample"].nunique(),
-                n_levels=len(levels), levels=", ".join(f"{x:g}" for x in levels), blocks=one("blocks"),
+                n_levels=len(levels), level=level.name, levels=f"{', '.join(f'{x:g}' for x in levels)} {level.unit}".rstrip(),
+                blocks=one("blocks"),
                 cells=one("cells"), refine=one("subcontact_refine"), solver=one("solver_version"), excluded=excluded,
                 cpu_h=float(runs["wall_time_s"].sum()) / 3600 if "wall_time_s" in runs else float("nan"),
                 table="\n".join([rule, line(head), rule, *map(line, rows), rule]))
 
 
-def statistics(runs, stats, corr, inc):
+def statistics(runs, stats, corr, inc, level=A.SIGMA_V, inputs=A.INPUTS):
     """Captions of the statistics, correlations and increase tables (by
     template name); ``inc`` is analysis.increase from the lowest to the
-    highest level of ``runs``."""
-    levels = sorted(runs.sigma_v_mpa.unique())
+    highest level of ``runs``; ``inputs``: the random inputs' columns."""
+    levels = sorted(runs[level.column].unique())
     n_corr = int(corr.loc[corr["mode"] == "all", "count"].max())
     noise = f"+-{A.correlation_band(n_corr):.2f} for n = {n_corr}" if n_corr > 2 else "undefined for so few runs"
 
     def spread(variant):
-        cov = A.input_spread(runs, variant)
+        cov = A.input_spread(runs, variant, inputs)
         return ", ".join(f"{n} {v:.3f}" for n, v in cov.items()) if cov else "none run"
 
     bad = runs[~runs.ok]
-    stat_lines = [f"{r.variant}, {r.sigma_v_mpa:g} MPa: mean **{r.P_max_mean_kN:.2f} kN** "
+    stat_lines = [f"{r.variant}, {level.text(getattr(r, level.column))}: mean **{r.P_max_mean_kN:.2f} kN** "
                   f"({_num(r.P_max_mean_kN_lo, '.2f')} to {_num(r.P_max_mean_kN_hi, '.2f')}; "
                   f"{r.strength_mean_mpa:.3f} MPa), COV **{r.P_max_cov:.3f}** ({_num(r.P_max_cov_lo, '.3f')} to "
                   f"{_num(r.P_max_cov_hi, '.3f')}), {r.count} runs, {100 * r.brick_share:.0f} % brick failures "
@@ -159,12 +169,12 @@ def statistics(runs, stats, corr, inc):
                   for r in stats[stats["mode"] == "all"].itertuples()]
     corr_lines = []
     for r in corr[corr["mode"] == "all"].itertuples():
-        vals = {n: getattr(r, n) for n in A.INPUTS}
+        vals = {n: getattr(r, n) for n in inputs}
         top = max(vals, key=lambda n: abs(vals[n]) if pd.notna(vals[n]) else -1)
-        corr_lines.append(f"{r.variant}, {r.sigma_v_mpa:g} MPa: {top} ({vals[top]:+.2f}); "
+        corr_lines.append(f"{r.variant}, {level.text(getattr(r, level.column))}: {top} ({vals[top]:+.2f}); "
                           + ", ".join(f"{n} {v:+.2f}" for n, v in vals.items()))
     return dict(
-        workflow=landing(runs, stats, len(bad)),
+        workflow=landing(runs, stats, len(bad), level, inputs),
         statistics=dict(excluded=len(bad), total=len(runs), lines=_bullets(stat_lines),
                         excluded_detail=(" (" + ", ".join(f"{k}: {v}" for k, v in bad.status.value_counts().items())
                                          + ")") if len(bad) else ""),
@@ -173,44 +183,46 @@ def statistics(runs, stats, corr, inc):
         increase=dict(lines="; ".join(f"{r.variant} {r.mode} **{100 * r.increase:+.0f} %** "
                                       f"({_num(100 * r.increase_lo, '+.0f')} to {_num(100 * r.increase_hi, '+.0f')} %)"
                                       for r in inc.dropna(subset=["increase"]).itertuples())
-                      + f" (from {levels[0]:g} to {levels[-1]:g} MPa)"))
+                      + f" (from {levels[0]:g} to {level.text(levels[-1])})"))
 
 
-def study_figures(runs, stats, corr, sv_scatter):
+def study_figures(runs, stats, corr, sv_scatter, level=A.SIGMA_V, inputs=A.INPUTS):
     """Captions of the study's figures (by template name): the running
     mean's last 20 %, the brick shares, the correlation trends, the
     correlations at the scatter plot's level ``sv_scatter`` and the drop
     after the peak per mode at the lowest and highest level."""
-    levels = np.sort(runs.sigma_v_mpa.unique())
+    levels = np.sort(runs[level.column].unique())
     good = runs[runs.ok]
     rm = []
-    for (variant, sv), g in good.groupby(["variant", "sigma_v_mpa"]):
+    for (variant, sv), g in good.groupby(["variant", level.column]):
         m = A.running_mean(g.sort_values("sample").P_max_kN)
         tail = m[int(0.8 * len(m)) - 1:]
         se = g.P_max_kN.std(ddof=1) / len(g) ** 0.5 / m[-1]      # standard error of the mean, relative
-        rm.append(f"{variant} {sv:g} MPa {100 * (tail.max() - tail.min()) / m[-1]:.1f} % "
+        rm.append(f"{variant} {level.text(sv)} {100 * (tail.max() - tail.min()) / m[-1]:.1f} % "
                   f"(standard error of the mean {100 * se:.1f} %)")
-    share = [f"{v}: " + ", ".join(f"{r.sigma_v_mpa:g} MPa {100 * r.brick_share:.0f} %" for r in g.itertuples())
+    share = [f"{v}: " + ", ".join(f"{level.text(getattr(r, level.column))} {100 * r.brick_share:.0f} %"
+                                  for r in g.itertuples())
              for v, g in stats[stats["mode"] == "all"].groupby("variant")]
     cva = corr[corr["mode"] == "all"]
     trend = []
     for v, g in cva.groupby("variant"):
-        g = g.sort_values("sigma_v_mpa")
-        trend.append(f"{v}: " + ", ".join(f"{n} {g[n].iloc[0]:+.2f} to {g[n].iloc[-1]:+.2f}" for n in A.INPUTS))
-    at = cva[(cva.variant == "nonspatial") & (cva.sigma_v_mpa == sv_scatter)]
-    drops = [f"{v} {sv:g} MPa {mode} {100 * g.drop_after_peak.median():.0f} % ({len(g)} runs)"
-             for (v, sv, mode), g in good[good.sigma_v_mpa.isin([levels[0], levels[-1]])].groupby(
-                 ["variant", "sigma_v_mpa", "failure_mode"])]
+        g = g.sort_values(level.column)
+        trend.append(f"{v}: " + ", ".join(f"{n} {g[n].iloc[0]:+.2f} to {g[n].iloc[-1]:+.2f}" for n in inputs))
+    at = cva[(cva.variant == "nonspatial") & (cva[level.column] == sv_scatter)]
+    drops = [f"{v} {level.text(sv)} {mode} {100 * g.drop_after_peak.median():.0f} % ({len(g)} runs)"
+             for (v, sv, mode), g in good[good[level.column].isin([levels[0], levels[-1]])].groupby(
+                 ["variant", level.column, "failure_mode"])]
     return dict(
         running_mean=dict(lines="; ".join(rm)),
         brick_share=dict(lines="; ".join(share)),
         correlation_vs_sigma=dict(lines="from the lowest to the highest level, " + "; ".join(trend)),
-        scatter_deviation=dict(sv=sv_scatter, n=int(at["count"].iloc[0]) if len(at) else 0,
-                               lines=", ".join(f"{n} {at[n].iloc[0]:+.2f}" for n in A.INPUTS) if len(at) else "none"),
+        scatter_deviation=dict(sv=level.text(sv_scatter), level=level.name,
+                               n=int(at["count"].iloc[0]) if len(at) else 0,
+                               lines=", ".join(f"{n} {at[n].iloc[0]:+.2f}" for n in inputs) if len(at) else "none"),
         curves_by_mode=dict(lines="; ".join(drops)))
 
 
-def study_pictures(picked):
+def study_pictures(picked, level=A.SIGMA_V):
     """The pictured runs: (variant, mode, run, the mode's runs at the run's
     level) as figures.typical_run picks them (run None: no run failed in
     that mode)."""
@@ -219,14 +231,15 @@ def study_pictures(picked):
         if pick is None:
             lines.append(f"{variant}, {mode} failure: no run")
             continue
-        lines.append(f"{variant}, {mode} failure: sample {pick['sample']} at {pick.sigma_v_mpa:g} MPa (the level with "
+        lines.append(f"{variant}, {mode} failure: sample {pick['sample']} at {level.text(pick[level.column])} "
+                     f"(the level with "
                      f"most {mode} failures, {len(at)} of them, median P_max {at.P_max_kN.median():.2f} kN): "
                      f"P_max **{pick.P_max_kN:.2f} kN**, repeated exactly by the rerun")
     return dict(lines=_bullets(lines))
 
 
 def equations(rows):
-    """The prediction equations' rows (analysis.prediction_equations)."""
+    """The prediction equations' rows (equations.prediction_equations)."""
     lines = []
     for r in rows:
         if r["mode"] == "lower of two":
@@ -241,12 +254,13 @@ def equations(rows):
     return dict(lines=_bullets(lines))
 
 
-def design_comparison(design, simulated, fitted, resid_sd, n_samples, geometry):
+def design_comparison(design, simulated, fitted, resid_sd, n_samples, geometry, means=None):
     """The design comparison (validation.design_table) at the simulated
     levels (``simulated``: mean and std of the strength by sigma_v_mpa);
     ``fitted``: the modes with an equation; ``resid_sd``: the predictor's
     residual scatter (MPa); ``n_samples``: the sampled property sets;
-    ``geometry``: validation.wallette_geometry."""
+    ``geometry``: validation.wallette_geometry; ``means``: the variables'
+    means (studyfile.input_means; the Willis study's by default)."""
     lines = []
     for sv in simulated.index:
         at = {k: float(np.interp(sv, design.sigma_v_mpa, design[k])) for k in design.columns}
@@ -256,7 +270,8 @@ def design_comparison(design, simulated, fitted, resid_sd, n_samples, geometry):
                      f"**{at['mean_over_samples']:.3f} MPa** on average over the samples; Lourenco-Gaetani stepped "
                      f"{at['lg_stepped']:.3f} / brick {at['lg_brick']:.3f} MPa; AS3700 stepped "
                      f"{at['as3700_stepped']:.3f} / line {at['as3700_line']:.3f} MPa")
-    f_tu, f_tj = A.mean_strengths()
+    means = input_means(STUDY_VARIABLES) if means is None else means
+    f_tu, f_tj = means["f_tu"], means["f_tj"]
     return dict(f_tu=f_tu, f_tj=f_tj, resid=resid_sd, n_samples=n_samples, l_o=1e3 * geometry["l_o"],
                 h_b=1e3 * geometry["h_b"], c_ratio=geometry["c_ratio"], lines=_bullets(lines),
                 equations=("the joint and brick equations" if len(fitted) == 2 else

@@ -3,6 +3,13 @@ user, the study's jobs and the workflow's runs alike.
 
   masonrydem run SCENE.yaml [--set path.to.key=value ...] --out DIR [--state] [--quiet] [--threads N]
       [--samples FILE --sample N --variant V] [--format parquet|json] [--exit-zero]
+  masonrydem check SCENE.yaml [--set path.to.key=value ...]
+  masonrydem predict --ftu "3.5 MPa" --ftj "0.25 MPa" --sv "0.1 MPa" [--study predictor.json]
+  masonrydem predict --input NAME=VALUE ... [--study predictor.json]
+
+``check`` validates a scene and estimates its run (check.py) without
+building anything; ``predict`` evaluates a study's prediction equations
+(predict.py).
 
 Exit codes: 0 the run ended ok; 1 it ended not ok (its row says why:
 status and message); 2 bad input, refused before any computation (the
@@ -166,6 +173,31 @@ def _process_start():
         return time.time()
 
 
+def _check(args):
+    """``check``: the scene validated and described; nothing built or run."""
+    from .check import summary
+    from .scene import load_scene
+    print("\n".join(summary(load_scene(args.scene, args.set))))
+    return 0
+
+
+def _predict(args):
+    """``predict``: a study's equations at the given inputs."""
+    from .errors import InputError
+    from .predict import OPTIONS, predict
+    inputs, options = {}, {}
+    for name, option in OPTIONS.items():
+        if getattr(args, option[2:]) is not None:
+            inputs[name], options[name] = getattr(args, option[2:]), option
+    for text in args.input:
+        name, eq, value = text.partition("=")
+        if not eq or not name.strip():
+            raise InputError("--input", f"{text!r} is not NAME=VALUE (such as f_tu='3.5 MPa')")
+        inputs[name.strip()], options[name.strip()] = value, f"--input {name.strip()}"
+    print("\n".join(predict(args.study, options, **inputs).lines()))
+    return 0
+
+
 def parser():
     p = argparse.ArgumentParser(prog="masonrydem", description="Masonry micro-model DEM solver.",
                                 epilog="exit codes: 0 ok, 1 the run ended not ok, 2 bad input, 3 internal error")
@@ -186,13 +218,30 @@ def parser():
     run.add_argument("--variant", help="with --samples: nonspatial or spatial")
     run.add_argument("--exit-zero", action="store_true",
                      help="exit 0 whenever the row is written (its status says how the run ended)")
+    check = sub.add_parser("check", help="validate a scene and print its model's size and a run's estimated "
+                                         "time and memory; builds and runs nothing")
+    check.add_argument("scene", help="scene YAML file")
+    check.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override a scene setting")
+    pred = sub.add_parser("predict", help="a study's prediction equations: strength, load, failure mode and a "
+                                          "95 %% prediction interval")
+    for name, what in (("--ftu", "the units' tensile strength f_tu"), ("--ftj", "the joints' tensile bond f_tj"),
+                       ("--sv", "the precompression sigma_v")):
+        pred.add_argument(name, help=f"{what}, a stress with its unit, e.g. '3.5 MPa' (a plain number is Pa)")
+    pred.add_argument("--input", action="append", default=[], metavar="NAME=VALUE",
+                      help="any input of the study's equations by its name in the study file, e.g. "
+                           "--input t='10 mm' (a plain number is SI)")
+    pred.add_argument("--study", default="results/study/predictor.json",
+                      help="the study's predictor (default results/study/predictor.json)")
     return p
+
+
+COMMANDS = dict(run=_run, check=_check, predict=_predict)
 
 
 def main(argv=None):
     args = parser().parse_args(argv)
     try:
-        return _run(args)
+        return COMMANDS[args.command](args)
     except InputError as e:
         print(f"masonrydem: invalid input: {e}", file=sys.stderr)
         return 2

@@ -16,10 +16,18 @@ MODES = {"joint": "tab:blue", "brick": "tab:red"}
 # pixels of the 3-D pictures (masonrydem.viz) that go into the report: at
 # 1600 x 1000 the six damage pictures took 2.9 MB of the committed report
 PICTURE_WINDOW = (1200, 750)
-# symbols of the runs table's inputs, and axis labels with their units
-SYMBOL = {"f_tj_mpa": r"$f_{tj}$", "f_tu_mpa": r"$f_{tu}$", "phi_j_deg": r"$\phi_j$", "E_b_mpa": r"$E_b$"}
+# symbols of the runs table's inputs (others by their column's name), and
+# axis labels with their units
+SYMBOL = {"f_tj_mpa": r"$f_{tj}$", "f_tu_mpa": r"$f_{tu}$", "phi_j_deg": r"$\phi_j$", "E_b_mpa": r"$E_b$",
+          "sigma_v_mpa": r"$\sigma_v$"}
 SIGMA_V = r"$\sigma_v$ (MPa)"
 P_MAX = r"$P_{max}$ (kN)"
+
+
+def _axis(level):
+    """The axis label of a swept level (analysis.Level)."""
+    symbol = SYMBOL.get(level.column, level.name)
+    return f"{symbol} ({level.unit})" if level.unit else symbol
 
 
 def _save(fig, path):
@@ -28,19 +36,20 @@ def _save(fig, path):
     plt.close(fig)
 
 
-def running_mean(runs, path):
+def running_mean(runs, path, level=A.SIGMA_V):
     """Running mean of P_max against the number of simulations, per variant
-    and precompression (in sample order)."""
+    and level (in sample order)."""
     fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
     for ax, (variant, g) in zip(axes, runs[runs.ok].groupby("variant")):
-        for sv, h in g.groupby("sigma_v_mpa"):
+        for sv, h in g.groupby(level.column):
             h = h.sort_values("sample")
-            ax.plot(np.arange(1, len(h) + 1), A.running_mean(h.P_max_kN), label=f"{sv:g} MPa")
+            ax.plot(np.arange(1, len(h) + 1), A.running_mean(h.P_max_kN), label=level.text(sv))
         ax.set_title(variant)
         ax.set_xlabel("number of simulations")
         ax.grid(alpha=0.3)
     axes[0].set_ylabel(r"running mean of $P_{max}$ (kN)")
-    axes[-1].legend(title=r"$\sigma_v$", fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    axes[-1].legend(title=SYMBOL.get(level.column, level.name), fontsize=8, loc="center left",
+                    bbox_to_anchor=(1.01, 0.5))
     _save(fig, path)
 
 
@@ -50,32 +59,34 @@ def _with_interval(ax, x, y, lo, hi, fmt, **kw):
     ax.errorbar(x, y, yerr=[y - lo, hi - y], fmt=fmt, capsize=3, **kw)
 
 
-def brick_share(stats, path):
-    """Share of brick failures against precompression, both variants,
-    with their 95 % intervals."""
+def brick_share(stats, path, level=A.SIGMA_V):
+    """Share of brick failures against the level, both variants, with
+    their 95 % intervals."""
     fig, ax = plt.subplots(figsize=(6, 4))
     for variant, g in stats[stats["mode"] == "all"].groupby("variant"):
-        _with_interval(ax, g.sigma_v_mpa, 100 * g.brick_share, 100 * g.brick_share_lo, 100 * g.brick_share_hi,
+        _with_interval(ax, g[level.column], 100 * g.brick_share, 100 * g.brick_share_lo, 100 * g.brick_share_hi,
                        "o-", label=variant)
-    ax.set_xlabel(SIGMA_V)
+    ax.set_xlabel(_axis(level))
     ax.set_ylabel("brick failures (%)")
     ax.grid(alpha=0.3)
     ax.legend()
     _save(fig, path)
 
 
-def correlation_vs_sigma(corr, path):
-    """Pearson correlation of P_max with each input against precompression
-    (all modes), one panel per variant."""
+def correlation_vs_sigma(corr, path, level=A.SIGMA_V, inputs=A.INPUTS):
+    """Pearson correlation of P_max with each input (its column) against
+    the level (all modes), one panel per variant."""
     variants = sorted(corr.variant.unique())
     fig, axes = plt.subplots(1, len(variants), figsize=(5.5 * len(variants), 4), sharey=True, squeeze=False)
     for ax, variant in zip(axes[0], variants):
         g = corr[(corr.variant == variant) & (corr["mode"] == "all")]
-        for k, name in enumerate(A.INPUTS):     # shifted a little apart, so that the bars stay readable
-            _with_interval(ax, g.sigma_v_mpa + 0.004 * (k - 1.5), g[name], g[f"{name}_lo"], g[f"{name}_hi"], "o-",
-                           label=SYMBOL[name])
+        x = g[level.column]
+        shift = 0.008 * (x.max() - x.min())     # the inputs shifted a little apart, so that the bars stay readable
+        for k, name in enumerate(inputs):
+            _with_interval(ax, x + shift * (k - (len(inputs) - 1) / 2), g[name], g[f"{name}_lo"], g[f"{name}_hi"],
+                           "o-", label=SYMBOL.get(name, name))
         ax.set_title(variant)
-        ax.set_xlabel(SIGMA_V)
+        ax.set_xlabel(_axis(level))
         ax.axhline(0, color="k", lw=0.5)
         ax.grid(alpha=0.3)
     axes[0][0].set_ylabel(r"Pearson correlation with $P_{max}$")
@@ -83,41 +94,41 @@ def correlation_vs_sigma(corr, path):
     _save(fig, path)
 
 
-def scatter_deviation(runs, sigma_v, path):
+def scatter_deviation(runs, sigma_v, path, level=A.SIGMA_V, means=A.INPUT_MEANS):
     """P_max against each input's normalised deviation from its mean (the
-    mean of its distribution) at one precompression, coloured by failure
-    mode (non-spatial variant)."""
-    g = runs[runs.ok & (runs.variant == "nonspatial") & np.isclose(runs.sigma_v_mpa, sigma_v)]
-    fig, axes = plt.subplots(1, len(A.INPUTS), figsize=(4 * len(A.INPUTS), 3.6), sharey=True)
-    for ax, name in zip(axes, A.INPUTS):
-        dev = A.normalised_deviation(g[name], A.INPUT_MEANS[name])
+    mean of its distribution; ``means``: column -> mean) at one level,
+    coloured by failure mode (non-spatial variant)."""
+    g = runs[runs.ok & (runs.variant == "nonspatial") & np.isclose(runs[level.column], sigma_v)]
+    fig, axes = plt.subplots(1, len(means), figsize=(4 * len(means), 3.6), sharey=True, squeeze=False)
+    for ax, name in zip(axes[0], means):
+        dev = A.normalised_deviation(g[name], means[name])
         for mode, color in MODES.items():
             sel = (g.failure_mode == mode).to_numpy()
             ax.scatter(dev[sel], g.P_max_kN[sel], s=12, color=color, label=mode)
-        ax.set_xlabel(f"({SYMBOL[name]} - mean) / mean")
+        ax.set_xlabel(f"({SYMBOL.get(name, name)} - mean) / mean")
         ax.grid(alpha=0.3)
-    axes[0].set_ylabel(P_MAX)
-    axes[0].legend()
-    fig.suptitle(rf"non-spatial, $\sigma_v$ = {sigma_v:g} MPa")
+    axes[0][0].set_ylabel(P_MAX)
+    axes[0][0].legend()
+    fig.suptitle(f"non-spatial, {SYMBOL.get(level.column, level.name)} = {level.text(sigma_v)}")
     _save(fig, path)
 
 
-def curves_by_mode(runs, curves, levels, path):
+def curves_by_mode(runs, curves, levels, path, level=A.SIGMA_V):
     """Load-displacement curves grouped by failure mode, per variant and
-    precompression level (runs that are ok only)."""
+    level (runs that are ok only)."""
     variants = sorted(runs.variant.unique())
     fig, axes = plt.subplots(len(variants), len(levels), figsize=(5.5 * len(levels), 3.8 * len(variants)),
                              squeeze=False, sharex=True, sharey=True)
-    mode = runs[runs.ok].set_index(["variant", "sigma_v_mpa", "sample"]).failure_mode
+    mode = runs[runs.ok].set_index(["variant", level.column, "sample"]).failure_mode
     for i, variant in enumerate(variants):
         for j, sv in enumerate(levels):
             ax = axes[i][j]
-            c = curves[(curves.variant == variant) & np.isclose(curves.sigma_v_mpa, sv)]
+            c = curves[(curves.variant == variant) & np.isclose(curves[level.column], sv)]
             for sample, h in c.groupby("sample"):
                 if (variant, sv, sample) in mode.index:     # runs that are not ok are left out
                     ax.plot(h.displacement_mm, h.load_kN, color=MODES[mode[(variant, sv, sample)]], lw=0.6,
                             alpha=0.5)
-            ax.set_title(f"{variant}, sigma_v = {sv:g} MPa")
+            ax.set_title(f"{variant}, {level.name} = {level.text(sv)}")
             ax.grid(alpha=0.3)
     for ax in axes[-1]:
         ax.set_xlabel("load-line displacement (mm)")
@@ -352,7 +363,7 @@ def tornado(table, path):
     _save(fig, path)
 
 
-def typical_run(runs, variant, mode):
+def typical_run(runs, variant, mode, level=A.SIGMA_V):
     """The run to picture for a variant and failure mode: at the level where
     the mode is most frequent among the ok runs, the run nearest the
     median P_max of the mode there.  Returns (run, the mode's runs at that
@@ -360,6 +371,6 @@ def typical_run(runs, variant, mode):
     group = runs[(runs.variant == variant) & (runs.failure_mode == mode) & runs.ok]
     if group.empty:
         return None, None
-    sv = group.sigma_v_mpa.value_counts().sort_index().idxmax()
-    at = group[group.sigma_v_mpa == sv]
+    sv = group[level.column].value_counts().sort_index().idxmax()
+    at = group[group[level.column] == sv]
     return at.iloc[(at.P_max_kN - at.P_max_kN.median()).abs().argmin()], at

@@ -57,9 +57,29 @@ class Geometry:
         return self.courses * self.modelled_unit[2]
 
     @property
+    def built_height(self):
+        """The wall's height as built: its courses and the bed joints between
+        them (the modelled units' half joints at the top and the bottom are
+        not masonry): the section height b of the bending test."""
+        return self.courses * self.unit_height + (self.courses - 1) * self.joint_thickness
+
+    @property
     def length(self):
         """Overall length of the wall (the courses together)."""
         return self.modelled_unit[0] * (self.units_per_course + (self.bond_offset if self.courses > 1 else 0))
+
+    def item_centres(self):
+        """Where each unit and each joint sits on the wall's face: per 'unit'
+        and 'joint' an array of (x, z) in m, in the order of the per-unit
+        and per-joint properties (units course by course; joints as
+        ``joints`` numbers them: a head joint at its plane, a bed plane at
+        the middle of the unit above it)."""
+        L, _, H = self.modelled_unit
+        units = {(k, i): (self.course_span(k)[0] + (i + 0.5) * L, (k + 0.5) * H)
+                 for k in range(self.courses) for i in range(self.units_per_course)}
+        joints = [(units[u][0] + 0.5 * L, units[u][1]) if kind == "head" else (units[u][0], u[0] * H)
+                  for kind, u in self.joints]
+        return {"unit": np.array(list(units.values())), "joint": np.array(joints).reshape(-1, 2)}
 
     def course_span(self, k):
         """x-range of course k (odd courses shifted by the bond offset)."""

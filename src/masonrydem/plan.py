@@ -4,6 +4,10 @@ overrides of each simulation job, from the workflow's config
 the workflow's (workflow/rules/common.smk); this module names the runs and
 says what each one overrides."""
 
+from dataclasses import replace
+from functools import lru_cache
+
+
 ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
 
 
@@ -101,9 +105,74 @@ def specimen_cases(config):
 
 
 # --- the stochastic study -----------------------------------------------------
+def study(config):
+    """The typed study of the config: its study file (study.file), with
+    the config's samples, seed and levels where given (config/smoke.yaml:
+    a small study of the same file)."""
+    s = config["study"]
+    levels = tuple(str(x) for x in s["levels"]) if "levels" in s else None
+    return _study(s["file"], s.get("samples"), s.get("seed"), levels)
+
+
+@lru_cache(maxsize=None)
+def _study(path, samples, seed, levels):
+    from .studyfile import load_study, with_levels
+    st = load_study(path)
+    changes = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
+    if levels is not None:
+        st = with_levels(st, [_number(x) for x in levels], "study.levels")
+    return replace(st, **changes)
+
+
+def _number(text):
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def study_levels(config):
+    """The study's levels of its swept setting, in the unit the runs table
+    shows them in (the precompression in MPa)."""
+    from .quantities import to_shown
+    st = study(config)
+    return [to_shown(level, st.units[st.sweep_name]) for level in st.levels]
+
+
+def study_level_dirs(config):
+    """The runs' folder of each level (the wildcard level): the sweep's
+    name and the level as shown, sigma_v0.15."""
+    return [f"{study(config).sweep_name}{x!r}" for x in study_levels(config)]
+
+
+def level_override(config, level):
+    """The scene override of a level: by its folder name (the wildcard) or
+    its value as shown (a runs table's level column)."""
+    st = study(config)
+    dirs, shown = study_level_dirs(config), study_levels(config)
+    k = dirs.index(level) if isinstance(level, str) else min(range(len(shown)), key=lambda i: abs(shown[i] - level))
+    return f"{st.sweep_setting}={float(st.levels[k])}"
+
+
+def analysis(config):
+    """What the study's analysis needs of its study file: the equations'
+    terms, each input's column in the runs table, the swept setting, its
+    name, column and unit shown, the variables' means (in the columns' units),
+    each input's SI unit."""
+    from .quantities import shown
+    st = study(config)
+    return dict(terms=list(st.features), columns=st.columns(), setting=st.sweep_setting, level=st.sweep_name,
+                level_column=st.level_column(),
+                level_unit=shown(st.units[st.sweep_name])[0], means=st.means(), units=dict(st.units))
+
+
+def study_variants(config):
+    return list(study(config).variants)
+
+
 def study_pictures(config):
     """(variant, failure mode) of the study's 3-D pictures."""
-    return [(v, m) for v in config["study"]["variants"] for m in ("joint", "brick")]
+    return [(v, m) for v in study_variants(config) for m in ("joint", "brick")]
 
 
 # --- the accuracy study (issues 5, 22) -----------------------------------------
@@ -198,8 +267,8 @@ def planned_scenes(config):
     plans: ``where`` names the config's setting (and the run) it comes from."""
     scene, numerics = config["scene"], config["numerics"]
     out = [("numerics", scene, numerics)]
-    out += [(f"study.precompression_mpa ({sv} MPa)", scene, effective(numerics, [pressure(sv)]))
-            for sv in config["study"]["precompression_mpa"]]
+    out += [(f"study levels ({level})", study(config).scene, effective(numerics, [level_override(config, level)]))
+            for level in study_level_dirs(config)]
     v = config["validation"]
     out += [(f"validation.cases ({c['name']} at {sv} MPa)", scene, validation_overrides(config, c["name"], sv))
             for c in v["cases"] for sv in v["precompression_mpa"]]

@@ -16,7 +16,7 @@ from .solver import Controls, Numerics, init, prescribe
 from .specimen import build
 from .stops import Stops, run
 
-GOOD = ("load_drop", "displacement_limit")
+GOOD = ("load_drop", "displacement_limit", "past_peak")
 CHUNK = 500          # steps between the stop rules' checks
 
 
@@ -105,7 +105,7 @@ def load(state, specimen, u0, progress=False):
     drive, num = specimen.scene.loading.drive, specimen.scene.numerics
     state = prescribe(state, specimen.drive, specimen.velocity)
     stops = Stops(disp_limit=u0 + drive.max_displacement, load_drop=drive.load_drop, monitor="load",
-                  balance="support")
+                  balance="support", past_peak=drive.past_peak)
     shown = _stage(specimen.test, progress, lambda h: (h.disp[-1, 0] - u0) / drive.max_displacement, u0)
     state, record, ending = run(state, drive.max_steps, stops, Controls(ramp_steps=drive.ramp_steps), chunk=CHUNK,
                                 record_every=num.record_every, progress=shown)
@@ -175,16 +175,21 @@ def simulate(scene, progress=True):
     return Outcome(specimen, state, pre, test, u0, start, status, message, time.perf_counter() - t0)
 
 
+DROP_WINDOW = 1e-4   # m: the post-peak branch a row describes (drop_after_peak, post_peak)
+
+
 def post_peak(outcome):
-    """After the peak of the test's load: the largest unbalance of the load
-    (did it stay near equilibrium, or snap: a sudden crack that
-    displacement control cannot follow, carried by inertia), and the
-    history's load, displacement and unbalance columns."""
+    """Within DROP_WINDOW after the peak of the test's load: the largest
+    unbalance of the load (did it stay near equilibrium, or snap: a sudden
+    crack that displacement control cannot follow, carried by inertia);
+    and the history's unbalance column.  The window is the branch every
+    run reaches (a run that stops once its peak is certain goes at least
+    that far: stops.Stops.past_peak)."""
     h = outcome.test.record.history if outcome.test is not None else None
     if h is None:
         return math.nan, None
     g = h.group("load")
     u = unbalance(h, g, h.group("support"))
     peak = outcome.test.record.peaks[g]
-    after = u[h.step > peak.step] if peak is not None else u[:0]
+    after = u[(h.step > peak.step) & (h.disp[:, g] <= peak.disp + DROP_WINDOW)] if peak is not None else u[:0]
     return (float(np.nanmax(after)) if after.size else math.nan), u

@@ -16,10 +16,9 @@ import numpy as np
 from . import __version__, source_hash
 from .classify import classify
 from .history import PEAK_UNBALANCE
-from .protocol import GOOD, post_peak
+from .protocol import DROP_WINDOW, GOOD, post_peak  # DROP_WINDOW: drop_after_peak is the load lost within it
 from .solver import max_rotation
 
-DROP_WINDOW = 1e-4   # m: 'drop_after_peak' is the load lost within this displacement after the peak
 CURVE_COLUMNS = ("step", "displacement_mm", "load_kN", "ratio", "unbalance")
 NAN = math.nan
 

@@ -35,24 +35,54 @@ ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulatio
 @dataclass(frozen=True)
 class Variable:
     name: str
-    dist: str          # 'lognormal' or 'normal'
-    mean: float
-    cov: float
+    dist: str          # lognormal, normal, truncated_normal or uniform
+    mean: float = None
+    cov: float = None  # or sd
+    sd: float = None
+    bounds: tuple = None   # (min, max): the distribution cut to them
+    setting: str = None    # the scene setting it drives (a study file's)
+    per: str = None        # 'unit' or 'joint': what carries one value per item
 
     def frozen(self):
-        if self.dist == "normal":
-            return stats.norm(loc=self.mean, scale=self.cov * self.mean)
-        s = math.sqrt(math.log(1.0 + self.cov ** 2))
-        return stats.lognorm(s=s, scale=self.mean / math.sqrt(1.0 + self.cov ** 2))
+        """The marginal as a scipy distribution (ppf, mean, ...)."""
+        sd = self.sd if self.sd is not None else (self.cov * self.mean if self.mean is not None else None)
+        if self.dist == "uniform":
+            lo, hi = self.bounds
+            return stats.uniform(loc=lo, scale=hi - lo)
+        if self.dist in ("normal", "truncated_normal"):
+            parent = stats.norm(loc=self.mean, scale=sd)
+        else:
+            cov = self.cov if self.cov is not None else sd / self.mean
+            s = math.sqrt(math.log(1.0 + cov ** 2))
+            parent = stats.lognorm(s=s, scale=self.mean / math.sqrt(1.0 + cov ** 2))
+        if self.bounds is None:
+            return parent
+        lo, hi = self.bounds
+        if self.dist in ("normal", "truncated_normal"):
+            return stats.truncnorm((lo - self.mean) / sd, (hi - self.mean) / sd, loc=self.mean, scale=sd)
+        return _Truncated(parent, lo, hi)
 
+
+class _Truncated:
+    """A distribution cut to [lo, hi]: ppf(u) = F^-1(F(lo) + u (F(hi) - F(lo)))."""
+
+    def __init__(self, parent, lo, hi):
+        self.parent, self.a, self.b = parent, parent.cdf(lo), parent.cdf(hi)
+
+    def ppf(self, u):
+        return self.parent.ppf(self.a + np.asarray(u) * (self.b - self.a))
+
+    def mean(self):
+        u = (np.arange(10_000) + 0.5) / 10_000
+        return float(np.mean(self.ppf(u)))
 
 
 # docs/study.md, section 6 (SI units: Pa, degrees)
 STUDY_VARIABLES = (
-    Variable("f_tj", "lognormal", 0.30e6, 0.40),
-    Variable("f_tu", "lognormal", 3.75e6, 0.25),
-    Variable("phi_j", "normal", 35.0, 0.10),
-    Variable("E_b", "lognormal", 15000e6, 0.30),
+    Variable("f_tj", "lognormal", 0.30e6, 0.40, setting="materials.joints.ft", per="joint"),
+    Variable("f_tu", "lognormal", 3.75e6, 0.25, setting="materials.units.ft", per="unit"),
+    Variable("phi_j", "normal", 35.0, 0.10, setting="materials.joints.phi", per="joint"),
+    Variable("E_b", "lognormal", 15000e6, 0.30, setting="materials.units.E", per="unit"),
 )
 STUDY_CORRELATIONS = {("E_b", "f_tu"): 0.5}
 
@@ -102,6 +132,15 @@ def refine_correlation(x, target, rng, tol=CORRELATION_TOL, tries=200_000):
     return x
 
 
+def _target(names, correlations):
+    """The correlation matrix of ``names`` with the given pairs' values."""
+    target = np.eye(len(names))
+    for (a, b), rho in correlations.items():
+        i, j = names.index(a), names.index(b)
+        target[i, j] = target[j, i] = rho
+    return target
+
+
 def lhs(n, variables=STUDY_VARIABLES, correlations=None, seed=0):
     """n Latin Hypercube samples of ``variables`` with the given Pearson
     correlations between named pairs.  Returns (dict name -> array,
@@ -112,45 +151,81 @@ def lhs(n, variables=STUDY_VARIABLES, correlations=None, seed=0):
     u = qmc.LatinHypercube(d=d, seed=rng).random(n)
     x = np.column_stack([v.frozen().ppf(u[:, k]) for k, v in enumerate(variables)])
     names = [v.name for v in variables]
-    target = np.eye(d)
-    for (a, b), rho in correlations.items():
-        i, j = names.index(a), names.index(b)
-        target[i, j] = target[j, i] = rho
-    if n > d:
+    target = _target(names, correlations)
+    if n > d > 1:
         x = iman_conover(x, target)
         x = refine_correlation(x, target, rng)
-    achieved = np.corrcoef(x, rowvar=False)
+    achieved = np.atleast_2d(np.corrcoef(x, rowvar=False))
     return {nm: x[:, k] for k, nm in enumerate(names)}, achieved
 
 
-UNIT_VARIABLES = ("f_tu", "E_b")
-JOINT_VARIABLES = ("f_tj", "phi_j")
-
-
-def study_samples(n, seed, n_units=24, n_joints=38):
+def study_samples(n, seed, n_units=24, n_joints=38, variables=STUDY_VARIABLES, correlations=STUDY_CORRELATIONS):
     """The study's samples (docs/study.md, 6-8), reproducible from ``seed``.
 
     Returns (nonspatial, spatial, achieved):
-    * nonspatial: DataFrame, one row per sample: sample, f_tj, f_tu, phi_j,
-      E_b (Pa, degrees), one value of each variable for the whole wallette;
-    * spatial: DataFrame, one row per sample with list columns: per unit
-      f_tu, E_b (n_units values, one LHS of size n_units with the E_b-f_tu
-      correlation) and per joint f_tj, phi_j (one LHS of size n_joints);
+    * nonspatial: DataFrame, one row per sample: sample and one value of
+      each variable for the whole wallette (SI: Pa, degrees);
+    * spatial: DataFrame, one row per sample with list columns: the
+      variables carried per unit (``per``: for the Willis study f_tu, E_b),
+      n_units values from one LHS of size n_units with their correlations,
+      and those per joint (f_tj, phi_j) from one LHS of size n_joints;
     * achieved: correlation matrix of the non-spatial sample.
     The spatial draws use seeds spawned from ``seed`` (numpy SeedSequence),
     one per simulation, so each is reproducible on its own."""
     import pandas as pd
-    values, achieved = lhs(n, seed=np.random.SeedSequence(seed).spawn(1)[0])
+    values, achieved = lhs(n, variables, correlations, seed=np.random.SeedSequence(seed).spawn(1)[0])
     nonspatial = pd.DataFrame({"sample": np.arange(n), **values})
-    by_name = {v.name: v for v in STUDY_VARIABLES}
+    groups = [(tuple(v for v in variables if v.per == per), count) for per, count in (("unit", n_units),
+                                                                                       ("joint", n_joints))]
     rows = []
     for i, ss in enumerate(np.random.SeedSequence([seed, 1]).spawn(n)):
-        su, sj = ss.spawn(2)
-        units, _ = lhs(n_units, [by_name[k] for k in UNIT_VARIABLES], seed=su)
-        joints, _ = lhs(n_joints, [by_name[k] for k in JOINT_VARIABLES], correlations={}, seed=sj)
-        rows.append({"sample": i, **{k: units[k].tolist() for k in UNIT_VARIABLES},
-                     **{k: joints[k].tolist() for k in JOINT_VARIABLES}})
+        row = {"sample": i}
+        for (group, count), s in zip(groups, ss.spawn(2)):
+            names = {v.name for v in group}
+            within = {pair: rho for pair, rho in correlations.items() if set(pair) <= names}
+            drawn, _ = lhs(count, group, correlations=within, seed=s) if group else ({}, None)
+            row.update({k: x.tolist() for k, x in drawn.items()})
+        rows.append(row)
     return nonspatial, pd.DataFrame(rows), achieved
+
+
+def field_samples(n, seed, variables, correlations, centres, length):
+    """Random fields of the variables carried per unit and per joint, one
+    draw per sample (a study variant that draws 'field').
+
+    Each variable is a Gaussian field mapped to its marginal (u = Phi(g),
+    x = F^-1(u)).  Between two items at distance r on the wall's face the
+    Gaussian correlation is exp(-r / ``length``) (the exponential, Markov,
+    kernel; positive definite in any dimension); variables of the same
+    items are correlated as ``correlations`` says, at the same point, in
+    Gaussian space (a separable model: covariance = kernel x cross
+    correlation; for a lognormal pair the Pearson correlation of the values
+    is then slightly below rho, 0.49 for rho 0.5 at COV 0.25 and 0.30).
+    ``centres`` gives each item's (x, z) (masonry.Geometry.item_centres).
+    A long ``length`` gives one value for the wallette, a short one
+    independent items.  Returns a DataFrame like the spatial table of
+    ``study_samples``: sample and a list per variable.  Seeds are spawned
+    from ``seed`` per sample, so each draw is reproducible on its own."""
+    import pandas as pd
+    rows = []
+    for i, ss in enumerate(np.random.SeedSequence([seed, 2]).spawn(n)):
+        row = {"sample": i}
+        for per, s in zip(("unit", "joint"), ss.spawn(2)):
+            group = [v for v in variables if v.per == per]
+            if group:
+                row.update(_field(group, correlations, centres[per], length, np.random.default_rng(s)))
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def _field(group, correlations, xy, length, rng):
+    r = np.linalg.norm(xy[:, None, :] - xy[None, :, :], axis=-1)
+    kernel = np.linalg.cholesky(np.exp(-r / length) + 1e-10 * np.eye(len(xy)))
+    names = [v.name for v in group]
+    cross = np.linalg.cholesky(_target(names, {p: c for p, c in correlations.items() if set(p) <= set(names)}))
+    g = kernel @ rng.standard_normal((len(xy), len(group))) @ cross.T
+    u = stats.norm.cdf(g)
+    return {v.name: np.asarray(v.frozen().ppf(u[:, k]), float).tolist() for k, v in enumerate(group)}
 
 
 def records(table):

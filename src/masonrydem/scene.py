@@ -17,11 +17,13 @@ from importlib import resources
 
 from jsonschema import Draft202012Validator, validators
 
+from .bending import check_loading, placed
 from .blocks import refine_axes
 from .errors import InputError, check_finite
 from .inputs import apply_overrides, read_scene, read_yaml
 from .laws import BLOCK_MODELS, JOINT_LAWS, Elastic, MohrCoulomb
 from .masonry import Geometry, JointFields, UnitFields, joint_fields, unit_fields
+from .quantities import check_plausible, convert
 
 SCHEMA = read_yaml(resources.files(__package__).joinpath("scene_schema.yaml").read_text())
 # the choices of physics come from the tables of laws (laws.py)
@@ -65,6 +67,7 @@ class Drive:
     max_displacement: float
     load_drop: float
     max_steps: int
+    past_peak: tuple = None  # (drop, after, at_most): stops.Stops.past_peak
 
 
 @dataclass(frozen=True)
@@ -156,13 +159,16 @@ def validate_scene(scene):
     InputError naming the first offending field."""
     if not isinstance(scene, dict):
         raise InputError("scene", "must be a mapping")
+    written = convert(scene, SCHEMA)     # quantities ('0.15 MPa') to SI floats
+    positioned = _given(scene, "loading", "bending") & {"supports_x", "loads_x"}    # before the defaults fill them in
     check_finite(scene)
     errors = sorted(_Validator(SCHEMA).iter_errors(scene), key=lambda e: list(e.absolute_path))
     if errors:
         e = errors[0]
         raise InputError(".".join(str(p) for p in e.absolute_path) or "scene", e.message)
+    check_plausible(scene, SCHEMA, written)
     g, phys, num = _geometry(scene["geometry"]), _physics(scene["physics"]), _numerics(scene["numerics"])
-    loading = _loading(scene["loading"])
+    loading = _loading(scene["loading"], g, positioned)
     if phys.large and phys.blocks != "rigid":
         raise InputError("physics.displacements", "large displacements need rigid blocks: deformable blocks "
                          f"({phys.blocks}) are small-displacement (strains on the initial geometry)")
@@ -174,11 +180,20 @@ def validate_scene(scene):
                          f"units only; {phys.blocks} units have none")
     _check_size(g, phys, num, loading)   # before anything that takes time in proportion to the model's size
     if phys.model.material is MohrCoulomb and (reason := g.crack_band_error(num.cells[0])):
-        raise InputError("numerics.cells.0", reason)
-    _check_loading(g, loading)
+        raise InputError("numerics.cells.0", f"{reason} (the default cells are the potential-crack units'; "
+                                             "elasto-plastic units come within 2 % on 15x7x5: docs/accuracy.md)")
+    check_loading(g, loading)
     return Scene(name=scene["name"], description=scene.get("description", ""), geometry=g, physics=phys,
                  materials=_materials(scene["materials"], g), loading=loading, numerics=num,
                  outputs=Outputs(**scene["outputs"]))
+
+
+def _given(scene, *path):
+    """The keys a scene gives itself at a path of sections (none if absent)."""
+    node = scene
+    for key in path:
+        node = node.get(key) if isinstance(node, dict) else None
+    return set(node) if isinstance(node, dict) else set()
 
 
 def load_scene(path, overrides=()):
@@ -198,13 +213,17 @@ def _physics(p):
     return Physics(blocks=p["blocks"], joints=p["joints"], gravity=p["gravity"], large=p["displacements"] == "large")
 
 
-def _loading(lo):
+def _loading(lo, g, given=()):
     test = lo["test"]
     b = lo["bending"]
+    supports, loads = placed(b, g, given) if test == "bending" else (tuple(b["supports_x"]), tuple(b["loads_x"]))
     drive = {k: lo[test][k] for k in ("rate", "ramp_steps", "max_displacement", "load_drop", "max_steps")}
+    if (past := lo[test].get("past_peak")) is not None:
+        drive["past_peak"] = (past["drop"], past["after"], past["at_most"])
     return Loading(test=test, precompression=Precompression(**lo["precompression"]), drive=Drive(**drive),
-                   bending=Bending(supports_x=tuple(b["supports_x"]), loads_x=tuple(b["loads_x"]),
-                                   section_height=b["section_height"], strip_width=b["strip_width"],
+                   bending=Bending(supports_x=supports, loads_x=loads,
+                                   section_height=b.get("section_height", g.built_height),
+                                   strip_width=b["strip_width"],
                                    strip_stiffness_ratio=b["strip_stiffness_ratio"], strips_turn=b["strips_turn"],
                                    strip_friction=b["strip_friction"]))
 
@@ -257,33 +276,6 @@ def _materials(m, g):
                           ks_ratio=mj["ks_ratio"], gi_per_ft=mj.get("GI_per_ft"),
                           residual_friction_ratio=mj["residual_friction_ratio"])
     return Materials(units=units, joints=joints)
-
-
-def _check_loading(g, loading):
-    """Four-point bending on the wall, the loads between the outer supports
-    and no support between the loads (else the moment between the loads is
-    not P a / 2, and the strength computed from it means nothing); a
-    triplet of three units stacked."""
-    if loading.test == "bending":
-        b = loading.bending
-        for key, xs in (("supports_x", b.supports_x), ("loads_x", b.loads_x)):
-            for i, x in enumerate(xs):
-                if not (0.5 * b.strip_width <= x <= g.length - 0.5 * b.strip_width):
-                    raise InputError(f"loading.bending.{key}.{i}", f"{x} m is outside the wall (0 to {g.length:.4g} m)")
-        supports, loads = b.supports_x, b.loads_x
-        for i, x in enumerate(loads):
-            if not min(supports) < x < max(supports):
-                raise InputError(f"loading.bending.loads_x.{i}", f"{x} m is not between the supports "
-                                 f"(loading.bending.supports_x: {min(supports)} to {max(supports)} m)")
-        for i, x in enumerate(supports):
-            if min(loads) <= x <= max(loads):
-                raise InputError(f"loading.bending.supports_x.{i}", f"{x} m lies between the loads "
-                                 f"(loading.bending.loads_x: {min(loads)} to {max(loads)} m); the supports must "
-                                 "lie outside them")
-    if loading.test == "triplet":
-        for key, have, want in (("courses", g.courses, 3), ("units_per_course", g.units_per_course, 1)):
-            if have != want:
-                raise InputError(f"geometry.{key}", f"a triplet test has {want} (three units stacked), got {have}")
 
 
 # bytes per item of a model at the peak of building it and setting up its

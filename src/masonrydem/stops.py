@@ -12,6 +12,9 @@ after every chunk (docs/formulation.md, section 9):
   ('displacement_limit');
 * after its peak, the monitor's load below ``load_drop`` times the peak
   ('load_drop');
+* past its peak, the peak certain ('past_peak'): the monitor has moved
+  ``after`` beyond the peak's displacement and its load, balanced, is
+  ``drop`` below the peak, or it has moved ``at_most`` beyond it;
 * ``max_steps`` ('max_steps').
 """
 import time
@@ -20,7 +23,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .errors import InputError
-from .history import chunk_peaks, concat, decimate, higher
+from .history import PEAK_UNBALANCE, chunk_peaks, concat, decimate, higher
 from .solver import Controls, advance, begin, max_rotation
 from .stability import QUASI_STATIC
 
@@ -35,6 +38,7 @@ class Stops(NamedTuple):
     load_drop: float = None
     monitor: str = None
     balance: str = None
+    past_peak: tuple = None     # (drop, after, at_most)
 
 
 class Ending(NamedTuple):
@@ -92,10 +96,11 @@ def diverged_where(state):
     return f"node {nd} (block {blk}, at {np.round(state.nodes.x0[nd], 4).tolist()} m)"
 
 
-def stop_rule(stops, g, last, peak):
-    """(status, message) of the first of the rules ratio_tol, disp_limit
-    and load_drop that holds on the chunk's last row, or None; g the
-    group of ``stops.monitor``, ``peak`` its Peak so far."""
+def stop_rule(stops, g, last, peak, b=None):
+    """(status, message) of the first of the rules ratio_tol, disp_limit,
+    load_drop and past_peak that holds on the chunk's last row, or None; g
+    the group of ``stops.monitor``, ``peak`` its Peak so far, b the group
+    of ``stops.balance``."""
     if stops.ratio_tol is not None and last.ratio[0] < stops.ratio_tol:
         return "converged", f"unbalanced-force ratio {last.ratio[0]:.3g} < {stops.ratio_tol}"
     if g is None:
@@ -106,6 +111,12 @@ def stop_rule(stops, g, last, peak):
     top = peak.load if peak is not None else 0.0
     if stops.load_drop is not None and top > 0 and load < stops.load_drop * top:
         return "load_drop", f"load fell to {load / top:.3f} of the peak"
+    if stops.past_peak is not None and peak is not None and top > 0:
+        drop, after, at_most = stops.past_peak
+        beyond = abs(disp - peak.disp)
+        balanced = b is None or abs(load + last.force[0, b]) < PEAK_UNBALANCE * abs(load)
+        if beyond >= at_most or (beyond >= after and balanced and load < (1.0 - drop) * top):
+            return "past_peak", f"{beyond * 1e3:.3f} mm past the peak, the load at {load / top:.3f} of it"
     return None
 
 
@@ -144,7 +155,7 @@ def run(state, max_steps, stops=Stops(), controls=Controls(), chunk=200, record_
                 f"a block rotated by {rot:.3g} rad (> {state.integrator.rotation_limit}) at step {state.step}: "
                 "beyond the small-displacement formulation")
             break
-        if end := stop_rule(stops, g, last, peaks[g] if g is not None else None):
+        if end := stop_rule(stops, g, last, peaks[g] if g is not None else None, balance.get(g)):
             status, message = end
             break
     record = Record(concat(rows, a.monitor_names), last, tuple(peaks))

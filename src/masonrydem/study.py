@@ -1,35 +1,52 @@
 """The stochastic study (docs/study.md, 8): a sample as scene settings.
 
-A sample sets the units' E and f_tu and the joints' f_tj and phi_j: once
-for the wallette (variant 'nonspatial') or one value per unit and per
-joint ('spatial').  Both variants declare the same dependent rules
-(docs/study.md, 3), which the scene applies item by item (masonry.py):
-G_fu = 0.04 f_tu^0.7 (N/mm with f in MPa) and G_I = 0.03 f_tj (N/mm per
-MPa); c_u = 1.5 f_tu, c_j = 1.2 f_tj, G_II = 10 G_I, k_n from E_b and
-k_s = 0.4 k_n are the scene's own ratios.
+A study file (studyfile.py) names the scene setting each random variable
+drives and the settings that follow from them (its rules).  A sample's
+record carries its settings (``settings``, written with the samples by
+the workflow's sample rule), so that a job applies them without reading
+the study file: one value of each variable for the wallette (a variant
+that draws per 'wallette'), or one per unit or joint ('items': the
+setting's per-unit or per-joint list, materials.per_unit.E and so on).
+The scene applies the rules item by item (masonry.py): for the Willis
+study G_fu = 0.04 f_tu^0.7 (N/mm with f in MPa) and G_I = 0.03 f_tj (N/mm
+per MPa); c_u = 1.5 f_tu, c_j = 1.2 f_tj, G_II = 10 G_I, k_n from E_b and
+k_s = 0.4 k_n.
 """
 from .masonry import GF_COEFFICIENT, GF_EXPONENT, GI_PER_FT
 
 VARIANTS = ("nonspatial", "spatial")
+# the Willis study's variants and rules (config/studies/willis.yaml)
+WILLIS_DRAWS = {"nonspatial": "wallette", "spatial": "items"}
+WILLIS_RULES = {"materials.units.Gf_rule": {"coefficient": GF_COEFFICIENT, "exponent": GF_EXPONENT},
+                "materials.joints.GI_per_ft": GI_PER_FT, "materials.units.c_ratio": 1.5,
+                "materials.joints.c_ratio": 1.2, "materials.joints.GII_ratio": 10.0,
+                "materials.joints.Em_ratio": 0.1, "materials.joints.ks_ratio": 0.4}
+PER_ITEM = {"unit": ("materials.units.", "materials.per_unit."), "joint": ("materials.joints.", "materials.per_joint.")}
 
 
-def sample_settings(sample, variant):
-    """The scene settings (dotted path -> value) of one sample (a mapping:
-    its number and properties, a record of sampling.study_samples; scalars
-    for 'nonspatial', per unit f_tu, E_b and per joint f_tj, phi_j sequences
-    for 'spatial')."""
-    rules = {"materials.units.Gf_rule": {"coefficient": GF_COEFFICIENT, "exponent": GF_EXPONENT},
-             "materials.joints.GI_per_ft": GI_PER_FT}
-    if variant == "nonspatial":
-        values = {"materials.units.E": float(sample["E_b"]), "materials.units.ft": float(sample["f_tu"]),
-                  "materials.joints.ft": float(sample["f_tj"]), "materials.joints.phi": float(sample["phi_j"])}
-    elif variant == "spatial":
-        values = {f"materials.per_{what}.{key}": [float(x) for x in sample[name]]
-                  for what, key, name in (("unit", "E", "E_b"), ("unit", "ft", "f_tu"), ("joint", "ft", "f_tj"),
-                                          ("joint", "phi", "phi_j"))}
-    else:
+def settings(sample, draw, variables, rules):
+    """The scene settings (dotted path -> value) of one sample record
+    (its number and each variable's value: a scalar for draw 'wallette', a
+    sequence per unit or joint for 'items' and 'field'), with the study's
+    ``rules``."""
+    if draw not in ("wallette", "items", "field"):
+        raise ValueError(f"unknown draw {draw!r}: wallette, items or field")
+    out = {}
+    for v in variables:
+        if draw == "wallette":
+            out[v.setting] = float(sample[v.name])
+        else:
+            wall, item = PER_ITEM[v.per]
+            out[item + v.setting[len(wall):]] = [float(x) for x in sample[v.name]]
+    return {**out, **rules}
+
+
+def willis_record(sample, variant):
+    """A sample of the Willis study with its settings (tests, benchmarks)."""
+    from .sampling import STUDY_VARIABLES
+    if variant not in WILLIS_DRAWS:
         raise ValueError(f"unknown variant {variant!r}: one of {', '.join(VARIANTS)}")
-    return {**values, **rules}
+    return {**sample, "settings": settings(sample, WILLIS_DRAWS[variant], STUDY_VARIABLES, WILLIS_RULES)}
 
 
 def sample_inputs(sample):
@@ -42,11 +59,16 @@ def sample_inputs(sample):
 
 
 def apply_sample(scene, sample, variant):
-    """The scene mapping (not yet validated) with a sample's settings and
-    the name '<scene>:<variant>:s<sample>'."""
+    """The scene mapping (not yet validated) with a sample record's settings
+    and the name '<scene>:<variant>:s<sample>'."""
+    import copy
+
     from .inputs import set_value
-    for key, value in sample_settings(sample, variant).items():
-        set_value(scene, key, value)
+    if "settings" not in sample:
+        raise ValueError(f"sample {sample.get('sample')} has no settings: a samples file of an older version; "
+                         "rerun the study's sample rule")
+    for key, value in sample["settings"].items():
+        set_value(scene, key, copy.deepcopy(value))
     scene["name"] = f"{scene.get('name', 'scene')}:{variant}:s{int(sample['sample'])}"
     return scene
 

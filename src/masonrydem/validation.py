@@ -5,6 +5,9 @@ import numpy as np
 import pandas as pd
 
 from . import analysis as A
+from . import equations as E
+from .sampling import STUDY_VARIABLES
+from .studyfile import input_means
 from .plan import modelform_options
 
 ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
@@ -202,7 +205,7 @@ def wallette_geometry(scene):
     return dict(l_o=g.bond_overlap, h_b=g.modelled_unit[2], c_ratio=j.c_ratio)
 
 
-def design_table(fits, ns, resid_sd, levels, geometry):
+def design_table(fits, ns, resid_sd, levels, geometry, means=None, columns=E.COLUMNS, level="sigma_v"):
     """Against the precompression ``levels``: the lower-of-two prediction
     at the mean properties with a band of one standard deviation, which
     combines the scatter of the prediction over the sampled properties
@@ -210,14 +213,18 @@ def design_table(fits, ns, resid_sd, levels, geometry):
     equations leave (phi_j, E_b and the misfit); the prediction's mean over
     the samples; the Lourenco-Gaetani and AS3700 rules at the mean
     properties (AS3700 f_mt from f_tj, the flexural bond ~ the joint's
-    tensile bond, f_ut from f_tu).  NaN predictions without an equation."""
-    f_tu, f_tj = A.mean_strengths()
+    tensile bond, f_ut from f_tu).  NaN predictions without an equation.
+    ``means``: each variable's mean (equations.input_means; the Willis
+    study's by default), ``columns``: the inputs' columns in ``ns``,
+    ``level``: the precompression's name as an input."""
+    means = input_means(STUDY_VARIABLES) if means is None else means
+    f_tu, f_tj = means["f_tu"], means["f_tj"]
     pred = band = prop_sd = prop_mean = np.full_like(levels, np.nan)
     if fits:
-        joint, brick = A.joint_and_brick(fits)
-        pred, _ = A.lower_of_two(joint, brick, np.full_like(levels, f_tu), np.full_like(levels, f_tj), levels)
+        joint, brick = E.joint_and_brick(fits)
+        pred, _ = E.lower_of_two(joint, brick, {**means, level: levels})
         props = ns.drop_duplicates("sample")            # the properties of every sample with an ok run
-        prop_mean, prop_sd = A.prediction_over_samples(joint, brick, props.f_tu_mpa, props.f_tj_mpa, levels)
+        prop_mean, prop_sd = E.prediction_over_samples(joint, brick, E.inputs_of(props, columns), level, levels)
         band = np.sqrt(prop_sd ** 2 + resid_sd ** 2)
     lg = lourenco_gaetani(geometry["c_ratio"] * f_tj, f_tu, geometry["l_o"], geometry["h_b"])
     as_stepped, as_line = as3700(f_tj, f_tu, levels)
@@ -228,10 +235,10 @@ def design_table(fits, ns, resid_sd, levels, geometry):
 
 # --- the source paper side by side (docs/study.md, 17; docs/findings.md) ---------------
 def paper_equation(paper, mode):
-    """The paper's Eq. 10 for ``mode`` as an equation for analysis.predict
+    """The paper's Eq. 10 for ``mode`` as an equation for equations.predict
     (a term it does not have has coefficient 0)."""
     c = paper["equations"][mode]
-    return dict(intercept=float(c["intercept"]), coef={k: float(c.get(k, 0.0)) for k in A.FEATURES})
+    return dict(intercept=float(c["intercept"]), coef={k: float(c.get(k, 0.0)) for k in E.FEATURES})
 
 
 def _card_row(item, mode, sv, paper, ours, lo=np.nan, hi=np.nan):
@@ -255,14 +262,15 @@ def _ratio_rows(runs, values, resamples, seed):
     return num.sum(0) / den.sum(), lo, hi
 
 
-def paper_comparison(paper, runs, stats, inc, equations, resamples, seed, settle_tol=0.01):
+def paper_comparison(paper, runs, stats, inc, equations, resamples, seed, settle_tol=0.01, terms=E.FEATURES):
     """The scorecard: every published figure of ``paper`` (config/paper.yaml)
     beside ours on the same variant, with our 95 % interval (from the
     tables' _lo/_hi columns, or resampled here), the difference and
     whether the paper's value lies inside.  Also the paper's Eq. 10 on our
     runs (MAPE, bias), both equations at the mean properties (P_max, kN),
     and the run (in sample order) from which the running mean at the
-    highest level stays within ``settle_tol`` of its final value."""
+    highest level stays within ``settle_tol`` of its final value.
+    ``terms``: those of our equations (the Willis study's by default)."""
     v = paper["variant"]
     runs = runs[(runs.variant == v) & runs.ok]
     st = stats[stats.variant == v].set_index(["mode", "sigma_v_mpa"])
@@ -289,14 +297,15 @@ def paper_comparison(paper, runs, stats, inc, equations, resamples, seed, settle
         if m in eqs.index and np.isfinite(eqs.intercept.get(m, np.nan)):
             p = paper_equation(paper, m)
             rows += [_card_row(f"Eq. 10 coefficient: {t}", m, np.nan, (p["coef"] | {"intercept": p["intercept"]})[t],
-                               eqs.loc[m, t], eqs.loc[m, f"{t}_lo"], eqs.loc[m, f"{t}_hi"])
-                     for t in ("intercept",) + A.FEATURES]
+                               eqs.loc[m].get(t, np.nan), eqs.loc[m].get(f"{t}_lo", np.nan),
+                               eqs.loc[m].get(f"{t}_hi", np.nan))
+                     for t in ("intercept",) + E.FEATURES]
     if "lower of two" in eqs.index:
         r = eqs.loc["lower of two"]
         rows.append(_card_row("Eq. 10 MAPE (%)", "lower of two", np.nan, paper["equations"]["mape_pct"], r.mape_pct,
                               r.mape_pct_lo, r.mape_pct_hi))
     rows += _paper_equation_on_runs(paper, runs, resamples, seed)
-    rows += _equations_at_means(paper, eqs)
+    rows += _equations_at_means(paper, eqs, terms)
     top = runs[np.isclose(runs.sigma_v_mpa, max(paper["precompression_mpa"]))].sort_values("sample")
     if len(top):
         rm = A.running_mean(top.P_max_kN)
@@ -312,8 +321,7 @@ def _paper_equation_on_runs(paper, runs, resamples, seed):
     its two on all: MAPE and bias (mean of (predicted - simulated) /
     simulated), in %."""
     rows = []
-    joint, brick = (A.predict(paper_equation(paper, m), runs.f_tu_mpa, runs.f_tj_mpa, runs.sigma_v_mpa)
-                    for m in ("joint", "brick"))
+    joint, brick = (E.predict(paper_equation(paper, m), E.inputs_of(runs)) for m in ("joint", "brick"))
     for m, pred in (("joint", joint), ("brick", brick), ("lower of two", np.minimum(joint, brick))):
         sel = (runs.failure_mode == m).to_numpy() if m != "lower of two" else np.ones(len(runs), bool)
         if sel.sum() == 0:
@@ -326,18 +334,18 @@ def _paper_equation_on_runs(paper, runs, resamples, seed):
     return rows
 
 
-def _equations_at_means(paper, eqs):
+def _equations_at_means(paper, eqs, terms):
     """P_max (kN) at the mean properties and each of the paper's levels by
-    the paper's Eq. 10 and by ours, mode by mode."""
-    f_tu, f_tj = A.mean_strengths()
+    the paper's Eq. 10 and by ours (of the ``terms``), mode by mode."""
+    means = input_means(STUDY_VARIABLES)
     eq = paper["equations"]
     per_kN = 6.0 * eq["moment_arm_m"] / (eq["section_b_m"] * eq["section_h_m"] ** 2) / 1e3   # MPa per kN
     rows = []
     for m in ("joint", "brick"):
         if m not in eqs.index or not np.isfinite(eqs.intercept.get(m, np.nan)):
             continue
-        ours = dict(intercept=eqs.loc[m, "intercept"], coef={t: eqs.loc[m, t] for t in A.FEATURES})
+        ours = dict(intercept=eqs.loc[m, "intercept"], coef={t: eqs.loc[m, t] for t in terms})
         for sv in paper["precompression_mpa"]:
-            p, o = (float(A.predict(e, f_tu, f_tj, sv)[0]) / per_kN for e in (paper_equation(paper, m), ours))
+            p, o = (float(E.predict(e, {**means, "sigma_v": sv})[0]) / per_kN for e in (paper_equation(paper, m), ours))
             rows.append(_card_row("equation at the mean properties: P_max (kN)", m, sv, p, o))
     return rows

@@ -128,7 +128,7 @@ rule accuracy_figures:
 rule accuracy_subsample:
     """The study's conclusions at default against fine settings."""
     input:
-        default=get_subsample_runs("default"),
+        default=lambda wildcards: get_subsample_runs("default"),   # when planned: the study's runs
         fine=get_subsample_runs("fine"),
         template=get_template("accuracy_subsample"),
     output:

@@ -21,6 +21,7 @@ rule figures:
         captions=[get_caption_file(n) for n in FIGURE_CAPTIONS],
     params:
         code=get_code("figures"),
+        analysis=plan.analysis(config),
     log:
         f"{R}/logs/study/figures.log",
     conda:
@@ -33,10 +34,11 @@ rule regression:
     """Lasso prediction equations per mode and the design-rule comparison."""
     input:
         runs=f"{R}/study/runs.parquet",
-        scene=config["scene"],
+        scene=get_study_scene(),
         templates=[get_template(n) for n in REGRESSION_CAPTIONS],
     output:
         equations=report(f"{R}/study/equations.csv", caption=get_caption("equations"), category="Prediction"),
+        predictor=f"{R}/study/predictor.json",
         predicted=report(f"{R}/study/predicted_vs_simulated.png", caption=get_caption("equations"),
                          category="Prediction"),
         design=report(f"{R}/study/design_comparison.png", caption=get_caption("design_comparison"),
@@ -47,6 +49,7 @@ rule regression:
     params:
         code=get_code("regression"),
         bootstrap=config["study"]["bootstrap"],
+        analysis=plan.analysis(config),
     log:
         f"{R}/logs/study/regression.log",
     conda:
@@ -55,30 +58,32 @@ rule regression:
         "../scripts/regression.py"
 
 
-rule scorecard:
-    """The source paper's published figures beside ours, with our intervals."""
-    input:
-        runs=f"{R}/study/runs.parquet",
-        statistics=f"{R}/study/statistics.csv",
-        increase=f"{R}/study/increase.csv",
-        equations=f"{R}/study/equations.csv",
-        paper=config["study"]["paper"],
-        template=get_template("paper_comparison"),
-    output:
-        table=report(f"{R}/study/paper_comparison.csv", caption=get_caption("paper_comparison"),
-                     category="Paper side by side"),
-        figure=report(f"{R}/study/paper_comparison.png", caption=get_caption("paper_comparison"),
-                      category="Paper side by side"),
-        caption=get_caption_file("paper_comparison"),
-    params:
-        code=get_code("scorecard"),
-        bootstrap=config["study"]["bootstrap"],
-    log:
-        f"{R}/logs/study/scorecard.log",
-    conda:
-        ENV
-    script:
-        "../scripts/scorecard.py"
+if "paper_comparison" in TABLES:
+
+    rule scorecard:
+        """The source paper's published figures beside ours, with our intervals."""
+        input:
+            runs=f"{R}/study/runs.parquet",
+            statistics=f"{R}/study/statistics.csv",
+            increase=f"{R}/study/increase.csv",
+            equations=f"{R}/study/equations.csv",
+            paper=config["study"]["paper"],
+            template=get_template("paper_comparison"),
+        output:
+            table=report(f"{R}/study/paper_comparison.csv", caption=get_caption("paper_comparison"),
+                         category="Paper side by side"),
+            figure=report(f"{R}/study/paper_comparison.png", caption=get_caption("paper_comparison"),
+                          category="Paper side by side"),
+            caption=get_caption_file("paper_comparison"),
+        params:
+            code=get_code("scorecard"),
+            bootstrap=config["study"]["bootstrap"],
+        log:
+            f"{R}/logs/study/scorecard.log",
+        conda:
+            ENV
+        script:
+            "../scripts/scorecard.py"
 
 
 rule tables:
@@ -97,3 +102,24 @@ rule tables:
         ENV
     script:
         "../scripts/tables.py"
+
+
+rule further_studies:
+    """Pages of the report for further studies (config further_studies),
+    from the tables their own workflow runs committed."""
+    input:
+        **{f"{n}_{t}": f"{s['results']}/study/{t}.csv" for n, s in FURTHER.items() for t in ("statistics", "equations")},
+        template=get_template("further_study"),
+    output:
+        **{f"{n}_page": report(f"{R}/report/studies/{n}.html", caption=get_caption(f"further_study_{n}"),
+                               category="Further studies", subcategory=s["title"]) for n, s in FURTHER.items()},
+        **{f"{n}_caption": get_caption_file(f"further_study_{n}") for n in FURTHER},
+    params:
+        studies=FURTHER,
+        code=get_code("further_studies"),
+    log:
+        f"{R}/logs/study/further_studies.log",
+    conda:
+        ENV
+    script:
+        "../scripts/further_studies.py"

@@ -123,15 +123,30 @@ def get_specimen_outputs():
 # --- the stochastic study -------------------------------------------------------
 def get_study_runs(kind):
     """Every simulation's result (kind 'result') or curve file."""
-    s = config["study"]
-    return expand(f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/{kind}.json", variant=s["variants"],
-                  sv=s["precompression_mpa"], sample=range(s["n_samples"]))
+    return expand(f"{R}/study/runs/{{variant}}/{{level}}/s{{sample}}/{kind}.json", variant=plan.study_variants(config),
+                  level=plan.study_level_dirs(config), sample=range(plan.study(config).samples))
+
+
+def get_study_scene():
+    """The study's scene (its study file's; config's scene serves the
+    validation, the hard cases and the other deterministic runs)."""
+    return plan.study(config).scene
+
+
+def get_study_design():
+    """What decides the samples and their settings: the study's number of
+    samples, seed, variables, correlations, variants and rules (not its
+    levels: a change of the levels must not redraw the samples)."""
+    s = plan.study(config)
+    return dict(samples=s.samples, seed=s.seed, variables=[repr(v) for v in s.variables],
+                correlations={f"{a}~{b}": rho for (a, b), rho in s.correlations.items()}, variants=s.variants,
+                rules=s.rules, scene=s.scene)
 
 
 def get_study_sets(wildcards):
-    """A study simulation: the numerics and its precompression (the sample's
-    settings come from the samples file: --samples)."""
-    return get_job_sets(plan.effective(config["numerics"], [plan.pressure(wildcards.sv)]))
+    """A study simulation: the numerics and its level of the swept setting
+    (the sample's settings come from the samples file: --samples)."""
+    return get_job_sets(plan.effective(config["numerics"], [plan.level_override(config, wildcards.level)]))
 
 
 def get_fine_sets(wildcards):
@@ -149,12 +164,23 @@ TABLES = {
     "design_comparison": ("Design rules against the simulations", "Prediction", "design_comparison"),
     "paper_comparison": ("The source paper side by side", "Paper side by side", "paper_comparison"),
 }
+if not config["study"].get("paper"):    # a study with no source to compare: no scorecard
+    del TABLES["paper_comparison"]
+
+
+# further studies shown in the report, each run on its own (config further_studies)
+FURTHER = config.get("further_studies", {})
+
+
+def get_further_outputs():
+    return [f"{R}/report/studies/{n}.html" for n in FURTHER]
 
 
 def get_study_outputs():
     names = ("statistics.csv", "correlations.csv", "increase.csv", "sampling_check.csv", "running_mean.png",
              "brick_share.png", "correlation_vs_sigma.png", "scatter_deviation.png", "curves_by_mode.png",
-             "equations.csv", "predicted_vs_simulated.png", "design_comparison.png", "paper_comparison.csv")
+             "equations.csv", "predictor.json", "predicted_vs_simulated.png", "design_comparison.png",
+             *(["paper_comparison.csv"] if "paper_comparison" in TABLES else []))
     return [*(f"{R}/study/pictures/{v}_{m}.png" for v, m in plan.study_pictures(config)),
             *(f"{R}/study/{name}" for name in names),
             *(f"{R}/report/tables/{name}.html" for name in TABLES)]
@@ -180,8 +206,18 @@ def get_subsample_runs(which):
     if not config.get("accuracy"):
         return []
     sub = config["accuracy"]["subsample"]
-    root = "study/runs" if which == "default" else "accuracy/subsample"
-    return expand(f"{R}/{root}/nonspatial/sv{{sv}}/s{{sample}}/result.json", sv=sub["precompression_mpa"],
+    if which == "default":      # the study's folders of these precompressions (its sweep's)
+        st = plan.study(config)
+        dirs = dict(zip(plan.study_levels(config), plan.study_level_dirs(config)))
+        missing = [sv for sv in sub["precompression_mpa"] if float(sv) not in dirs]
+        if st.sweep_setting != "loading.precompression.pressure" or missing:
+            raise ValueError(f"accuracy.subsample.precompression_mpa: {missing or sub['precompression_mpa']} MPa "
+                             f"pairs the study's own runs at these precompressions, but the study file sweeps "
+                             f"{st.sweep_setting} at {plan.study_level_dirs(config)}; give the subsample the "
+                             f"study's levels, or leave the accuracy target out")
+        return expand(f"{R}/study/runs/nonspatial/{{level}}/s{{sample}}/result.json",
+                      level=[dirs[float(sv)] for sv in sub["precompression_mpa"]], sample=range(sub["n_samples"]))
+    return expand(f"{R}/accuracy/subsample/nonspatial/sv{{sv}}/s{{sample}}/result.json", sv=sub["precompression_mpa"],
                   sample=range(sub["n_samples"]))
 
 

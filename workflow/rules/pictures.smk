@@ -20,8 +20,8 @@ rule study_pictures:
     """3-D pictures of typical study runs, per variant and failure mode."""
     input:
         runs=f"{R}/study/runs.parquet",
-        samples=expand(f"{R}/study/samples_{{variant}}.json", variant=config["study"]["variants"]),
-        scene=config["scene"],
+        samples=expand(f"{R}/study/samples_{{variant}}.json", variant=plan.study_variants(config)),
+        scene=get_study_scene(),
         template=get_template("study_pictures"),
     output:
         pictures=[report(f"{R}/study/pictures/{v}_{m}.png", caption=get_caption("study_pictures"),
@@ -29,8 +29,9 @@ rule study_pictures:
         caption=get_caption_file("study_pictures"),
     params:
         code=get_code("study_pictures"),
+        analysis=plan.analysis(config),
         pictures=plan.study_pictures(config),
-        variants=config["study"]["variants"],
+        variants=plan.study_variants(config),
         overrides=config["numerics"],
     log:
         f"{R}/logs/study/pictures.log",

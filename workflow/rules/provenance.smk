@@ -93,19 +93,19 @@ def get_file_digest(path):
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
 
 
-def get_runs(sets, runs, *extra):
+def get_runs(sets, runs, *extra, scene=None):
     """What decides the simulations a step collects: the solver's source
-    hash, the scene and each run's settings (``sets`` of each run's
-    wildcards)."""
-    return _digest(get_solver_hash(), get_file_digest(config["scene"]),
+    hash, the scene (config's unless given) and each run's settings
+    (``sets`` of each run's wildcards)."""
+    return _digest(get_solver_hash(), get_file_digest(scene or config["scene"]),
                    [sets(SimpleNamespace(**w)) for w in runs], *extra)
 
 
 def get_study_runs_key():
     """get_runs of the study: every level's settings and the samples' seed
     (their number is in the list of inputs)."""
-    return get_runs(get_study_sets, [dict(sv=sv) for sv in config["study"]["precompression_mpa"]],
-                    config["study"]["seed"])
+    return get_runs(get_study_sets, [dict(level=d) for d in plan.study_level_dirs(config)], repr(get_study_design()),
+                    scene=get_study_scene())
 
 
 def _record_path(path):

@@ -7,13 +7,12 @@ rule sample:
     reruns every simulation (Snakemake plans them before it sees the
     samples unchanged), so their check is a rule of its own."""
     output:
-        nonspatial=f"{R}/study/samples_nonspatial.json",
-        spatial=f"{R}/study/samples_spatial.json",
+        samples=expand(f"{R}/study/samples_{{variant}}.json", variant=plan.study_variants(config)),
     params:
         # only what sampling reads: a change of any other study setting
         # (levels, curve points) must not redraw the samples
-        n_samples=config["study"]["n_samples"],
-        seed=config["study"]["seed"],
+        design=get_study_design(),
+        variants=plan.study_variants(config),
         code=get_code("sample"),
     log:
         f"{R}/logs/study/sample.log",
@@ -32,8 +31,7 @@ rule sampling_check:
         check=report(f"{R}/study/sampling_check.csv", caption=get_caption("sampling_check"), category="Study"),
         caption=get_caption_file("sampling_check"),
     params:
-        n_samples=config["study"]["n_samples"],
-        seed=config["study"]["seed"],
+        design=get_study_design(),
         code=get_code("sampling_check"),
     log:
         f"{R}/logs/study/sampling_check.log",
@@ -44,21 +42,21 @@ rule sampling_check:
 
 
 rule simulate:
-    """One simulation: a variant, a precompression level, a sample."""
+    """One simulation: a variant, a level of the swept setting, a sample."""
     input:
         samples=f"{R}/study/samples_{{variant}}.json",
-        scene=ancient(config["scene"]),  # by its content: params.scene
+        scene=ancient(get_study_scene()),  # by its content: params.scene
     output:
-        result=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/result.json",
-        curve=f"{R}/study/runs/{{variant}}/sv{{sv}}/s{{sample}}/curve.json",
+        result=f"{R}/study/runs/{{variant}}/{{level}}/s{{sample}}/result.json",
+        curve=f"{R}/study/runs/{{variant}}/{{level}}/s{{sample}}/curve.json",
     params:
         sets=get_study_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
         python=get_python,
-        scene=get_file_digest(config["scene"]),
+        scene=get_file_digest(get_study_scene()),
     log:
-        f"{R}/logs/study/{{variant}}_sv{{sv}}_s{{sample}}.log",
+        f"{R}/logs/study/{{variant}}_{{level}}_s{{sample}}.log",
     threads: 1
     conda:
         ENV
@@ -75,11 +73,15 @@ rule collect:
     input:
         results=get_study_runs("result"),
         curves=get_study_runs("curve"),
+        samples=expand(f"{R}/study/samples_{{variant}}.json", variant=plan.study_variants(config)),
     output:
         runs=f"{R}/study/runs.parquet",
         curves=f"{R}/study/curves.parquet",
     params:
         code=get_code("collect"),
+        analysis=plan.analysis(config),
+        levels=dict(zip(plan.study_level_dirs(config), plan.study_levels(config))),
+        variants=plan.study_variants(config),
         simulations=get_study_runs_key(),
         curve_points=config["study"]["curve_points"],
     log:
@@ -104,6 +106,7 @@ rule statistics:
     params:
         code=get_code("statistics"),
         bootstrap=config["study"]["bootstrap"],
+        analysis=plan.analysis(config),
     log:
         f"{R}/logs/study/statistics.log",
     conda:

@@ -5,11 +5,14 @@ import sys
 sm = snakemake  # noqa: F821
 sys.stderr = sys.stdout = open(sm.log[0], "w")
 
-from masonrydem import captions  # noqa: E402
+from masonrydem import captions, plan  # noqa: E402
 from masonrydem.sampling import sampling_check, study_samples  # noqa: E402
 
-nonspatial, _, achieved = study_samples(sm.params.n_samples, sm.params.seed)
-check = sampling_check(nonspatial, achieved)
+study = plan.study(sm.config)
+nonspatial, _, achieved = study_samples(study.samples, study.seed, variables=study.variables,
+                                        correlations=study.correlations)
+check = sampling_check(nonspatial, achieved, study.variables)
 check.to_csv(sm.output.check, index=False, float_format="%.4g")
 print(check.to_string())
-captions.write_caption(sm.input.template, sm.output.caption, **captions.sampling_check(check, achieved))
+captions.write_caption(sm.input.template, sm.output.caption, **captions.sampling_check(check, achieved,
+                                                                                study.correlations))

@@ -12,31 +12,34 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 import pandas as pd  # noqa: E402
 
 from masonrydem import captions, figures  # noqa: E402
+from masonrydem.analysis import of_study  # noqa: E402
 from masonrydem.figures import typical_run  # noqa: E402
-from masonrydem.plan import pressure  # noqa: E402
+from masonrydem.plan import level_override  # noqa: E402
 from masonrydem.protocol import simulate  # noqa: E402
 from masonrydem.results import outcome_row, read_json  # noqa: E402
 from masonrydem.study import study_scene  # noqa: E402
 from masonrydem.viz import picture_damage, state_blocks  # noqa: E402
 
 runs = pd.read_parquet(sm.input.runs)
+level, _ = of_study(sm.params.analysis)
 picked = []
 for (variant, mode), path in zip(sm.params.pictures, sm.output.pictures):
-    pick, at = typical_run(runs, variant, mode)
+    pick, at = typical_run(runs, variant, mode, level)
     picked.append((variant, mode, pick, at))
     if pick is None:
         figures.placeholder(f"{variant}: no run failed in the {mode} mode", path)
         continue
     samples = read_json(sm.input.samples[sm.params.variants.index(variant)])
     sample = next(s for s in samples if s["sample"] == pick["sample"])
-    outcome = simulate(study_scene(sm.input.scene, [*sm.params.overrides, pressure(pick.sigma_v_mpa)], sample,
-                                   variant))
+    at_level = level.text(pick[level.column])
+    outcome = simulate(study_scene(sm.input.scene, [*sm.params.overrides, level_override(sm.config, pick[level.column])],
+                                   sample, variant))
     row = outcome_row(outcome)
     if (row.P_max_kN, row.failure_mode) != (pick.P_max_kN, pick.failure_mode):
-        raise RuntimeError(f"{variant} s{pick['sample']} at {pick.sigma_v_mpa} MPa: the rerun gives P_max "
+        raise RuntimeError(f"{variant} s{pick['sample']} at {at_level}: the rerun gives P_max "
                            f"{row.P_max_kN} kN ({row.failure_mode}), the study recorded {pick.P_max_kN} kN "
                            f"({pick.failure_mode})")
-    picture_damage(state_blocks(outcome.specimen, outcome.state), path, title=f"{variant} sample {pick['sample']}, sigma_v = "
-                   f"{pick.sigma_v_mpa:g} MPa: P_max {pick.P_max_kN:.2f} kN, {mode} failure",
+    picture_damage(state_blocks(outcome.specimen, outcome.state), path, title=f"{variant} sample {pick['sample']}, "
+                   f"{level.name} = {at_level}: P_max {pick.P_max_kN:.2f} kN, {mode} failure",
                    window=figures.PICTURE_WINDOW)
-captions.write_caption(sm.input.template, sm.output.caption, **captions.study_pictures(picked))
+captions.write_caption(sm.input.template, sm.output.caption, **captions.study_pictures(picked, level))

@@ -44,6 +44,79 @@ def _advance_dof(ff, fa, vo, m, fixed, vp, vf, alpha, dt):
 
 
 @njit(**_INLINE)
+def _advance_nodes(gon, lf, grav, vf, alpha, dt, nodes):
+    """Deformable blocks: every node's components as ``_advance_dof``, in
+    two passes over the flat (n x 3) arrays: first the elementwise update
+    of forces, velocities and displacements, without a branch (a
+    prescribed component's velocity is selected, not branched to), which
+    vectorises; then the four sums in the order of the components, the
+    same sums as before to the last bit.  Returns (sum |F| free, sum
+    |applied|, kinetic energy, work rate)."""
+    n = nodes.u.shape[0] * 3
+    u, v, f = nodes.u.reshape(n), nodes.v.reshape(n), nodes.f.reshape(n)
+    mass, fixed, vpres, fext = nodes.mass.reshape(n), nodes.fixed.reshape(n), nodes.vpres.reshape(n), \
+        nodes.fext.reshape(n)
+    for k in range(n):
+        load = lf * fext[k]
+        if gon:
+            load += nodes.mgrav[k // 3] * grav[k % 3]
+        ff = f[k] + load
+        f[k] = ff
+        vo = v[k]
+        fd = ff - alpha * abs(ff) * ((vo > 0.0) - (vo < 0.0))
+        vv = vf * vpres[k] if fixed[k] else vo + dt * fd / mass[k]
+        v[k] = vv
+        u[k] += dt * vv
+    unbal = 0.0
+    applied = 0.0
+    ke = 0.0
+    wk = 0.0
+    for k in range(n):
+        ff, vv = f[k], v[k]
+        load = lf * fext[k]
+        if gon:
+            load += nodes.mgrav[k // 3] * grav[k % 3]
+        if fixed[k]:
+            applied += abs(ff)
+            wk += -ff * vv
+        else:
+            unbal += abs(ff)
+            applied += abs(load)
+            ke += 0.5 * mass[k] * vv * vv
+            wk += load * vv
+    return unbal, applied, ke, wk
+
+
+@njit(**_INLINE)
+def _advance_bodies(gon, grav, vf, alpha, dt, nodes, bodies):
+    """Rigid blocks (one node per body): each body's translation, its
+    point loads summed into bodies.fl, by ``_advance_dof`` per component,
+    then its rotation (``_advance_rotation``).  Returns the sums as
+    ``_advance_nodes``."""
+    u, v, f, mass, fixed, vpres = nodes.u, nodes.v, nodes.f, nodes.mass, nodes.fixed, nodes.vpres
+    unbal = 0.0
+    applied = 0.0
+    ke = 0.0
+    wk = 0.0
+    for i in range(u.shape[0]):
+        for d in range(3):
+            load = bodies.fl[i, d]
+            if gon:     # gravity only when the scene declares it (literal: compiled away otherwise)
+                load += nodes.mgrav[i] * grav[d]
+            ff = f[i, d] + load
+            f[i, d] = ff
+            vv, a0, a1, a2, a3 = _advance_dof(ff, load, v[i, d], mass[i, d], fixed[i, d], vpres[i, d], vf, alpha, dt)
+            v[i, d] = vv
+            u[i, d] += dt * vv
+            unbal += a0
+            applied += a1
+            ke += a2
+            wk += a3
+        unbal, applied, ke, wk = _advance_rotation(i, vf, alpha, dt, bodies, unbal, applied, ke, wk)
+    return unbal, applied, ke, wk
+
+
+@njit(**_INLINE)
 def _point_loads(lf, bodies):
     """Rigid blocks: the point loads (times lf) summed per body into
     bodies.fl, their moments into bodies.mom."""
@@ -148,9 +221,8 @@ def run_chunk(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, j
     prescribed velocities and applied forces times the free velocities.
     Returns (status, steps done); status ST_NONFINITE stops at the first
     step whose kinetic energy is not finite."""
-    u, v, f, mass, fixed, vpres = nodes.u, nodes.v, nodes.f, nodes.mass, nodes.fixed, nodes.vpres
+    f = nodes.f
     dt, alpha, lf, grav = ctl.dt, ctl.alpha, ctl.lf, ctl.gravity
-    nn = u.shape[0]
     for step in range(nsteps):
         vf = min(1.0, ctl.vf0 + (step + 1) * ctl.dvf)
         f[:, :] = 0.0
@@ -163,26 +235,9 @@ def run_chunk(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, j
         contact_forces(JOINT_BEARING, rigid, large, dt, nodes, bodies, bearings)
         if rigid:
             _point_loads(lf, bodies)
-        unbal = 0.0
-        applied = 0.0
-        ke = 0.0
-        wk = 0.0
-        for i in range(nn):
-            for d in range(3):
-                load = bodies.fl[i, d] if rigid else lf * nodes.fext[i, d]
-                if gon:     # gravity only when the scene declares it (literal: compiled away otherwise)
-                    load += nodes.mgrav[i] * grav[d]
-                ff = f[i, d] + load
-                f[i, d] = ff
-                vv, a0, a1, a2, a3 = _advance_dof(ff, load, v[i, d], mass[i, d], fixed[i, d], vpres[i, d], vf, alpha, dt)
-                v[i, d] = vv
-                u[i, d] += dt * vv
-                unbal += a0
-                applied += a1
-                ke += a2
-                wk += a3
-            if rigid:
-                unbal, applied, ke, wk = _advance_rotation(i, vf, alpha, dt, bodies, unbal, applied, ke, wk)
+            unbal, applied, ke, wk = _advance_bodies(gon, grav, vf, alpha, dt, nodes, bodies)
+        else:
+            unbal, applied, ke, wk = _advance_nodes(gon, lf, grav, vf, alpha, dt, nodes)
         work[0] += dt * wk
         if work[0] > work[1]:
             work[1] = work[0]

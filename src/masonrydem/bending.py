@@ -1,0 +1,48 @@
+"""Where a test's supports and loads sit: placed by their spans or given
+as positions (``placed``), and checked against the wall (``check_loading``)
+before anything is built; errors name the scene's setting."""
+from .errors import InputError
+
+
+def placed(b, g, given):
+    """(supports_x, loads_x): as given, or from shear_span and load_span,
+    symmetric about the wall's middle."""
+    spans = [k for k in ("shear_span", "load_span") if k in b]
+    if not spans:
+        return tuple(b["supports_x"]), tuple(b["loads_x"])
+    if len(spans) == 1:
+        missing = ({"shear_span", "load_span"} - set(spans)).pop()
+        raise InputError(f"loading.bending.{spans[0]}", f"needs loading.bending.{missing} too (the supports and "
+                                                        "loads are placed symmetrically from both)")
+    if given:
+        raise InputError(f"loading.bending.{sorted(given)[0]}", "is given together with shear_span and load_span: "
+                         "place the supports and loads either way, not both")
+    mid, half, a = 0.5 * g.length, 0.5 * b["load_span"], b["shear_span"]
+    return (mid - half - a, mid + half + a), (mid - half, mid + half)
+
+
+def check_loading(g, loading):
+    """Four-point bending on the wall, the loads between the outer supports
+    and no support between the loads (else the moment between the loads is
+    not P a / 2, and the strength computed from it means nothing); a
+    triplet of three units stacked."""
+    if loading.test == "bending":
+        b = loading.bending
+        for key, xs in (("supports_x", b.supports_x), ("loads_x", b.loads_x)):
+            for i, x in enumerate(xs):
+                if not (0.5 * b.strip_width <= x <= g.length - 0.5 * b.strip_width):
+                    raise InputError(f"loading.bending.{key}.{i}", f"{x} m is outside the wall (0 to {g.length:.4g} m)")
+        supports, loads = b.supports_x, b.loads_x
+        for i, x in enumerate(loads):
+            if not min(supports) < x < max(supports):
+                raise InputError(f"loading.bending.loads_x.{i}", f"{x} m is not between the supports "
+                                 f"(loading.bending.supports_x: {min(supports)} to {max(supports)} m)")
+        for i, x in enumerate(supports):
+            if min(loads) <= x <= max(loads):
+                raise InputError(f"loading.bending.supports_x.{i}", f"{x} m lies between the loads "
+                                 f"(loading.bending.loads_x: {min(loads)} to {max(loads)} m); the supports must "
+                                 "lie outside them")
+    if loading.test == "triplet":
+        for key, have, want in (("courses", g.courses, 3), ("units_per_course", g.units_per_course, 1)):
+            if have != want:
+                raise InputError(f"geometry.{key}", f"a triplet test has {want} (three units stacked), got {have}")

@@ -1,0 +1,201 @@
+"""The study's prediction equations (docs/study.md, 13): Lasso regressions
+of the strength on terms of the study's inputs, one per failure mode, and
+the lower of the two as the predictor.
+
+An equation's terms are named as a study file's regression names them
+(studyfile.parse_term): an input (a random variable, or the swept setting
+by its name), a power of one ('f_tu^2') or a product ('f_tj*sigma_v'),
+each input in the unit the runs table shows it in (MPa, mm, deg).
+``inputs`` below is a mapping input -> values; ``inputs_of`` takes it from
+a runs table by the study's columns (Study.columns).  An equation is a
+dict with its intercept and coef (term -> coefficient, in the order of the
+terms): it carries its own terms.
+"""
+import numpy as np
+import pandas as pd
+from sklearn.linear_model import LassoCV
+from sklearn.model_selection import GroupKFold
+from sklearn.pipeline import make_pipeline
+from sklearn.preprocessing import StandardScaler
+
+from .studyfile import parse_term
+
+ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
+
+# the source's terms and the Willis study's inputs with their columns
+# (config/studies/willis.yaml)
+FEATURES = ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v")
+COLUMNS = {"f_tj": "f_tj_mpa", "f_tu": "f_tu_mpa", "phi_j": "phi_j_deg", "E_b": "E_b_mpa", "sigma_v": "sigma_v_mpa"}
+MIN_GROUPS = 7   # nested 5-fold CV: each inner fit needs 5 groups of the outer 4/5
+
+
+def inputs_of(runs, columns=COLUMNS):
+    """Input -> its values (float array) in the runs table ``runs``."""
+    return {name: runs[col].to_numpy(float) for name, col in columns.items() if col in runs}
+
+
+def features(inputs, terms=FEATURES):
+    """The matrix of the ``terms`` (one column each) over ``inputs``."""
+    inputs = {k: np.asarray(v, float) for k, v in inputs.items()}
+    columns = []
+    for term in terms:
+        value = 1.0
+        for name, power in parse_term(term, inputs):
+            value = value * inputs[name] ** power
+        columns.append(value)
+    return np.column_stack(np.broadcast_arrays(*columns))
+
+
+def _lasso(X, y, groups):
+    """Standardised features, Lasso with the penalty chosen by 5-fold
+    cross-validation on the MSE, folds made of whole groups.  Coordinate
+    descent to a duality gap of 1e-10 (scikit-learn's default, 1e-4, left
+    the study's coefficients up to 8 % from the optimum at the chosen
+    penalty, f_tu and f_tu^2 being nearly collinear: tests/test_regression.py
+    checks the optimality conditions)."""
+    cv = list(GroupKFold(5).split(X, y, groups))
+    return make_pipeline(StandardScaler(), LassoCV(cv=cv, max_iter=1_000_000, tol=1e-10)).fit(X, y)
+
+
+def fit_equation(inputs, strength, groups, terms=FEATURES, nested=True):
+    """Lasso regression of the strength (MPa) on the ``terms`` of the
+    ``inputs``, the penalty chosen by 5-fold cross-validation on the mean
+    squared error (scikit-learn LassoCV, features standardised).
+    ``groups``: the sample of each run; folds hold whole samples, because
+    one sample's runs at the other levels share its properties and would
+    let a fold see the wallette it is tested on.  At least MIN_GROUPS
+    samples.
+
+    Returns a dict with the intercept and coefficients in original units,
+    the chosen alpha, the fitted values and their MAPE (%), and the
+    out-of-fold predictions and their MAPE (``cv_mape``): each run
+    predicted by the equation fitted, penalty chosen included, on the
+    other four fifths of the samples (nested cross-validation), which is
+    the error to expect on a wallette the fit has not seen (left out,
+    NaN, with ``nested=False``)."""
+    X = features(inputs, terms)
+    y = np.asarray(strength, float)
+    groups = np.asarray(groups)
+    if np.unique(groups).size < MIN_GROUPS:
+        raise ValueError(f"{np.unique(groups).size} samples: nested 5-fold CV needs at least {MIN_GROUPS}")
+    fit = _lasso(X, y, groups)
+    scaler, lasso = fit[0], fit[1]
+    coef = lasso.coef_ / scaler.scale_
+    intercept = float(lasso.intercept_ - np.sum(coef * scaler.mean_))
+    fitted = fit.predict(X)
+    oof = np.full_like(y, np.nan)
+    for train, test in GroupKFold(5).split(X, y, groups) if nested else ():
+        oof[test] = _lasso(X[train], y[train], groups[train]).predict(X[test])
+    return dict(intercept=intercept, coef=dict(zip(terms, (coef + 0.0).tolist())), alpha=float(lasso.alpha_),
+                mape=mape(y, fitted), fitted=fitted, cv_mape=mape(y, oof), cv_predicted=oof, n=int(y.size))
+
+
+def predict(eq, inputs):
+    """The equation ``eq`` at ``inputs`` (its terms' inputs at least)."""
+    terms = tuple(eq["coef"])
+    return eq["intercept"] + features(inputs, terms) @ np.array([eq["coef"][k] for k in terms])
+
+
+def mape(y, yhat):
+    """Mean absolute percentage error (%)."""
+    y, yhat = np.asarray(y, float), np.asarray(yhat, float)
+    return float(100.0 * np.mean(np.abs((yhat - y) / y)))
+
+
+def equation_text(eq):
+    terms = " ".join(f"{'+' if c >= 0 else '-'} {abs(c):.4g} {k}" for k, c in eq["coef"].items() if c != 0)
+    return f"sigma = {eq['intercept']:.4g} {terms}  (MPa)"
+
+
+def lower_of_two(eq_joint, eq_brick, inputs):
+    """Predicted capacity: the lower of the two equations; the predicted
+    mode is that of the lower one.  Returns (strength, mode array)."""
+    j, b = predict(eq_joint, inputs), predict(eq_brick, inputs)
+    return np.minimum(j, b), np.where(j <= b, "joint", "brick")
+
+
+def prediction_over_samples(eq_joint, eq_brick, samples, level, levels):
+    """Mean and standard deviation, at each of the ``levels`` of the input
+    ``level`` (the sweep), of the lower-of-two prediction over the property
+    samples ``samples`` (input -> values).  The standard deviation is the
+    scatter of the capacity that the scatter of the properties causes,
+    through the equations.  The mean is the mean capacity; it lies at or
+    below the prediction at the mean properties, because the lower of two
+    linear functions is concave (Jensen's inequality), most where the two
+    equations cross."""
+    n = len(next(iter(samples.values())))
+    low = np.array([lower_of_two(eq_joint, eq_brick, {**samples, level: np.full(n, float(x))})[0] for x in levels])
+    return low.mean(axis=1), low.std(axis=1, ddof=1)
+
+
+def prediction_equations(ns, terms=FEATURES, columns=COLUMNS, nested=True):
+    """Per failure mode, the equation fitted to the runs ``ns`` (the ok
+    non-spatial runs) when they span MIN_GROUPS samples; then the
+    predictor, the lower of the two (with one equation it stands for both),
+    scored on every run of ``ns``.  Returns (fits, rows, residual_sd):
+    mode -> (equation, simulated strengths); the equations table's rows;
+    the standard deviation of the predictor's residuals (MPa)."""
+    fits, rows = {}, []
+    for mode in ("joint", "brick"):
+        g = ns[ns.failure_mode == mode]
+        if g["sample"].nunique() < MIN_GROUPS:
+            rows.append(dict(mode=mode, n=len(g), equation=f"too few runs to fit ({g['sample'].nunique()} samples, "
+                                                              f"the nested 5-fold CV needs {MIN_GROUPS})"))
+            continue
+        eq = fit_equation(inputs_of(g, columns), g.strength_mpa, g["sample"], terms, nested=nested)
+        fits[mode] = (eq, g.strength_mpa.to_numpy())
+        rows.append(dict(mode=mode, n=eq["n"], alpha=eq["alpha"], mape_pct=eq["mape"], cv_mape_pct=eq["cv_mape"],
+                         intercept=eq["intercept"], **eq["coef"], equation=equation_text(eq)))
+    resid_sd = np.nan
+    if fits:
+        low, low_mode = lower_of_two(*joint_and_brick(fits), inputs_of(ns, columns))
+        resid_sd = float(np.std(ns.strength_mpa - low, ddof=1))
+        rows.append(dict(mode="lower of two", n=len(ns), mape_pct=mape(ns.strength_mpa, low),
+                         mode_agreement=float(np.mean(low_mode == ns.failure_mode.to_numpy())),
+                         residual_sd_mpa=resid_sd,
+                         equation="min(joint, brick)" if len(fits) == 2 else f"the {next(iter(fits))} equation alone"))
+    return fits, rows, resid_sd
+
+
+def joint_and_brick(fits):
+    """The joint and the brick equation; with one, it stands for both."""
+    eqs = {m: e for m, (e, _) in fits.items()}
+    return eqs.get("joint", eqs.get("brick")), eqs.get("brick", eqs.get("joint"))
+
+
+def equation_terms(terms=FEATURES):
+    """The columns of an equations table that carry intervals."""
+    return ("intercept",) + tuple(terms) + ("mape_pct",)
+
+
+def equation_intervals(ns, resamples, seed, progress=None, terms=FEATURES, columns=COLUMNS):
+    """95 % bootstrap intervals (analysis.bootstrap_interval, whole samples
+    resampled) of the prediction equations of ``prediction_equations``:
+    per mode the intercept, the coefficients and the MAPE of the fit
+    (each resample refits, penalty chosen by cross-validation included;
+    the nested cross-validation is left out), and the lower-of-two MAPE.
+    NaN where a resample leaves a mode too few samples to fit.  Returns a
+    frame with the column mode and <term>_lo, <term>_hi."""
+    from .analysis import bootstrap_interval
+    samples = np.sort(ns["sample"].unique())
+    by_sample = [ns[ns["sample"] == s] for s in samples]
+    names = equation_terms(terms)
+
+    def one(idx):
+        _, rows, _ = prediction_equations(pd.concat([by_sample[i] for i in idx]), terms, columns, nested=False)
+        rows = {r["mode"]: r for r in rows}
+        return [rows.get(m, {}).get(t, np.nan) for m in ("joint", "brick") for t in names] + \
+            [rows.get("lower of two", {}).get("mape_pct", np.nan)]
+
+    def statistic(idx):
+        out = []
+        for k, i in enumerate(idx):
+            out.append(one(i))
+            if progress and (k + 1) % 100 == 0:
+                progress(k + 1, len(idx))
+        return np.array(out, float).T
+    lo, hi = bootstrap_interval(samples.size, statistic, resamples, seed)
+    n = len(names)
+    rows = [dict(mode=m, **{f"{t}_{e}": b[k * n + j] for j, t in enumerate(names)
+                            for e, b in (("lo", lo), ("hi", hi))}) for k, m in enumerate(("joint", "brick"))]
+    return pd.DataFrame(rows + [dict(mode="lower of two", mape_pct_lo=lo[-1], mape_pct_hi=hi[-1])])

@@ -1,0 +1,166 @@
+"""Issue 35: ``masonrydem check`` (a scene validated and estimated, nothing
+built or run) and ``masonrydem predict`` (a study's equations as a tool),
+the latter on synthetic runs whose strengths follow known equations."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from masonrydem import InputError, check, equations, predict, protocol, specimen
+from masonrydem.scene import load_scene, model_size
+
+WILLIS = "config/scenes/willis.yaml"
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-m", "masonrydem.cli", *args], capture_output=True, text=True)
+
+
+def test_check_counts_the_model_and_builds_nothing(monkeypatch, capsys):
+    from masonrydem import cli
+
+    def refuse(*a, **k):
+        raise AssertionError("check built or ran a model")
+    monkeypatch.setattr(specimen, "build", refuse)
+    monkeypatch.setattr(protocol, "simulate", refuse)
+    assert cli.main(["check", WILLIS, "--set", "numerics.cells=[4, 2, 2]"]) == 0
+    out = capsys.readouterr().out
+    scene = load_scene(WILLIS, ["numerics.cells=[4, 2, 2]"])
+    size = model_size(scene.geometry, scene.physics, scene.numerics, scene.loading)
+    assert f"{size['nodes']:,} nodes" in out and f"{size['sub_contacts']:,} sub-contacts" in out
+    assert f"{size['cells']:,} cells" in out and "valid" in out and "nothing was built or run" in out
+
+
+def test_check_estimates_time_from_the_counts_and_the_drive():
+    scene = load_scene(WILLIS)
+    size = model_size(scene.geometry, scene.physics, scene.numerics, scene.loading)
+    per_step = check.step_seconds(scene, size)
+    assert per_step == pytest.approx(size["sub_contacts"] * 15e-9 + size["cells"] * 37e-9 + size["nodes"] * 9e-9)
+    d = scene.loading.drive
+    drive, pre = check.step_bound(scene)
+    # the Willis scene: a 1 mm limit at 3.75e-8 m a step after a ramp of 1000 steps
+    assert (d.max_displacement, d.rate, d.ramp_steps) == (1e-3, 3.75e-8, 1000)
+    assert drive == 1000 + 26667 and pre == 0
+    longer = load_scene(WILLIS, ["loading.bending.max_displacement=2 mm", "loading.precompression.pressure=0.1 MPa"])
+    assert check.step_bound(longer) == (1000 + 53334, longer.loading.precompression.max_steps)
+
+
+def test_check_refuses_a_bad_scene_with_exit_2():
+    r = _cli("check", WILLIS, "--set", "materials.units.E=15")
+    assert r.returncode == 2 and "materials.units.E" in r.stderr and "did you mean 15 GPa?" in r.stderr
+
+
+# --- predict: synthetic runs with known equations ---------------------------------
+JOINT = dict(intercept=0.2, f_tj=4.5, sigma_v=2.5)       # MPa
+BRICK = dict(intercept=0.5, f_tu=0.5)
+
+
+def _synthetic(n=60, seed=1):
+    """n samples x 3 levels; each run fails in the mode of the lower known
+    equation, with a 2 % multiplicative scatter."""
+    rng = np.random.default_rng(seed)
+    f_tu, f_tj = rng.uniform(2.0, 6.0, n), rng.uniform(0.1, 0.8, n)
+    rows = []
+    for i in range(n):
+        for sv in (0.0, 0.25, 0.5):
+            j = JOINT["intercept"] + JOINT["f_tj"] * f_tj[i] + JOINT["sigma_v"] * sv
+            b = BRICK["intercept"] + BRICK["f_tu"] * f_tu[i]
+            rows.append(dict(sample=i, f_tu_mpa=f_tu[i], f_tj_mpa=f_tj[i], sigma_v_mpa=sv,
+                             failure_mode="joint" if j <= b else "brick",
+                             strength_mpa=min(j, b) * (1 + 0.02 * rng.standard_normal())))
+    return pd.DataFrame(rows)
+
+
+@pytest.fixture(scope="module")
+def predictor():
+    ns = _synthetic()
+    fits, _, _ = equations.prediction_equations(ns)
+    return predict.build(fits, ns, load_scene(WILLIS), source="synthetic runs")
+
+
+def test_predict_recovers_the_known_equations_and_the_load(predictor):
+    f_tu, f_tj, sv = 5.0, 0.3, 0.2
+    p = predict.predict(predictor, f_tu="5 MPa", f_tj="300 kPa", sigma_v="0.2 N/mm^2")
+    joint = JOINT["intercept"] + JOINT["f_tj"] * f_tj + JOINT["sigma_v"] * sv     # 1.85: the lower
+    assert p.mode == "joint" and p.strength_mpa == pytest.approx(joint, rel=0.02)
+    assert p.by_mode["brick"] == pytest.approx(BRICK["intercept"] + BRICK["f_tu"] * f_tu, rel=0.02)
+    # P from sigma = 6 M / (b h^2), M = P a / 2 with the Willis wallette's b = 0.44, h = 0.114, a = 0.275 m
+    assert p.load_kN == pytest.approx(p.strength_mpa * 1e6 * 0.44 * 0.114 ** 2 / 6 / (0.275 / 2) / 1e3, rel=1e-9)
+    lo, hi = p.interval_mpa
+    assert lo < p.strength_mpa < hi
+    # the interval is that of a 2 % scatter: about +-4 % (1.96 sigma), not more than twice that
+    assert 0.02 < (hi - lo) / p.strength_mpa < 0.16
+
+
+def test_predict_names_the_brick_mode_where_its_equation_is_lower(predictor):
+    p = predict.predict(predictor, f_tu=2.5e6, f_tj=0.7e6, sigma_v=0.5e6)
+    assert p.mode == "brick" and p.strength_mpa == pytest.approx(0.5 + 0.5 * 2.5, rel=0.02)
+
+
+@pytest.mark.parametrize("args,option,words", [
+    (("3.5", "0.25 MPa", "0 MPa"), "--ftu", "did you mean 3.5 MPa?"),
+    (("3.5 MPa", "0.95 MPa", "0 MPa"), "--ftj", "fitted on"),
+    (("3.5 MPa", "0.25 MPa", "1 MPa"), "--sv", "fitted on"),
+    (("3.5 MPa", "0.25 mm", "0 MPa"), "--ftj", "a length"),
+])
+def test_predict_refuses_inputs_outside_the_fitted_range(predictor, args, option, words):
+    with pytest.raises(InputError) as e:
+        predict.predict(predictor, predict.OPTIONS, **dict(zip(("f_tu", "f_tj", "sigma_v"), args)))
+    assert e.value.field == option and words in e.value.reason
+    assert "230 x 65 x 114 mm" in e.value.reason or e.value.field == "--ftj" and "length" in e.value.reason
+
+
+def test_predict_on_the_command_line(tmp_path, predictor):
+    path = tmp_path / "predictor.json"
+    path.write_text(json.dumps(predictor))
+    r = _cli("predict", "--ftu", "5 MPa", "--ftj", "0.3 MPa", "--sv", "0.2 MPa", "--study", str(path))
+    assert r.returncode == 0, r.stderr
+    assert "governing: joint failure" in r.stdout and "95 % prediction interval" in r.stdout
+    r = _cli("predict", "--ftu", "5", "--ftj", "0.3 MPa", "--sv", "0.2 MPa", "--study", str(path))
+    assert r.returncode == 2 and "did you mean 5 MPa?" in r.stderr
+    r = _cli("predict", "--ftu", "5 MPa", "--ftj", "0.3 MPa", "--sv", "0", "--study", str(tmp_path / "none.json"))
+    assert r.returncode == 2 and "--study" in r.stderr
+
+
+def test_predict_refuses_a_missing_or_unknown_input(predictor):
+    with pytest.raises(InputError) as e:
+        predict.predict(predictor, f_tu="3.5 MPa", f_tj="0.25 MPa")
+    assert e.value.field == "sigma_v" and "missing" in e.value.reason
+    with pytest.raises(InputError) as e:
+        predict.predict(predictor, f_tu="3.5 MPa", f_tj="0.25 MPa", sigma_v=0, t="10 mm")
+    assert e.value.field == "t" and "no input 't'" in e.value.reason
+
+
+def test_predict_any_inputs_and_terms(tmp_path):
+    """Equations over other inputs and terms (a study file's regression:
+    a length in mm, a product term): the predictor takes each input in its
+    unit and evaluates the terms as fitted."""
+    rng = np.random.default_rng(3)
+    n = 40
+    t_mm, f_tj = rng.uniform(8.0, 14.0, n), rng.uniform(0.1, 0.8, n)
+    rows = [dict(sample=i, t_mm=t_mm[i], f_tj_mpa=f_tj[i], sigma_v_mpa=sv, failure_mode="joint",
+                 strength_mpa=0.1 + 0.02 * t_mm[i] + 6.0 * f_tj[i] * sv + 3.0 * f_tj[i])
+            for i in range(n) for sv in (0.1, 0.3, 0.5)]
+    ns = pd.DataFrame(rows)
+    terms, columns = ("t", "f_tj", "f_tj*sigma_v"), dict(t="t_mm", f_tj="f_tj_mpa", sigma_v="sigma_v_mpa")
+    fits, _, _ = equations.prediction_equations(ns, terms, columns)
+    eq = fits["joint"][0]
+    assert eq["coef"]["f_tj*sigma_v"] == pytest.approx(6.0, rel=0.02) and eq["coef"]["t"] == pytest.approx(0.02, rel=0.05)
+    p = predict.build(fits, ns, load_scene(WILLIS), "synthetic", columns, dict(t="m", f_tj="Pa", sigma_v="Pa"))
+    assert p["inputs"]["t"] == dict(unit="m", shown="mm", column="t_mm")
+    got = predict.predict(p, t="12 mm", f_tj="0.5 MPa", sigma_v="0.2 MPa")
+    assert got.strength_mpa == pytest.approx(0.1 + 0.24 + 0.6 + 1.5, rel=0.01)
+    assert got.inputs == dict(t=12.0, f_tj=0.5, sigma_v=0.2)
+    with pytest.raises(InputError) as e:
+        predict.predict(p, t=12, f_tj="0.5 MPa", sigma_v="0.2 MPa")
+    assert e.value.field == "t" and "did you mean 12 mm?" in e.value.reason
+    path = tmp_path / "predictor.json"
+    path.write_text(json.dumps(p))
+    r = _cli("predict", "--input", "t=12 mm", "--input", "f_tj=0.5 MPa", "--sv", "0.2 MPa", "--study", str(path))
+    assert r.returncode == 0, r.stderr
+    assert "t 12 mm, f_tj 0.5 MPa, sigma_v 0.2 MPa" in r.stdout
+    r = _cli("predict", "--input", "t=12", "--input", "f_tj=0.5 MPa", "--sv", "0.2 MPa", "--study", str(path))
+    assert r.returncode == 2 and "--input t" in r.stderr and "did you mean 12 mm?" in r.stderr

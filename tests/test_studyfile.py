@@ -1,0 +1,128 @@
+"""Issue 35: a study defined in a file.  The Willis study file gives the
+committed samples bit for bit; each distribution draws its known
+marginal; bad study files are refused naming the field."""
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+from scipy import stats
+
+from masonrydem import InputError
+from masonrydem.masonry import GF_COEFFICIENT, GF_EXPONENT, GI_PER_FT
+from masonrydem.sampling import STUDY_CORRELATIONS, STUDY_VARIABLES, Variable, lhs, records, study_samples
+from masonrydem.studyfile import load_study
+
+WILLIS = "config/studies/willis.yaml"
+
+
+def test_the_willis_study_file_is_the_study_of_docs_study_md():
+    s = load_study(WILLIS)
+    assert s.variables == STUDY_VARIABLES and s.correlations == STUDY_CORRELATIONS
+    assert (s.samples, s.seed) == (100, 20260101)
+    assert s.variants == {"nonspatial": {"draw": "wallette", "correlation_length": None},
+                          "spatial": {"draw": "items", "correlation_length": None}}
+    assert s.levels == (0.0, 0.075e6, 0.15e6, 0.25e6, 0.5e6)
+    assert s.rules["materials.joints.GI_per_ft"] == GI_PER_FT
+    assert s.rules["materials.units.Gf_rule"] == {"coefficient": GF_COEFFICIENT, "exponent": GF_EXPONENT}
+
+
+def test_the_willis_study_file_draws_the_committed_samples_bit_for_bit():
+    s = load_study(WILLIS)
+    nonspatial, spatial, _ = study_samples(s.samples, s.seed, variables=s.variables, correlations=s.correlations)
+    for name, table in (("nonspatial", nonspatial), ("spatial", spatial)):
+        committed = records(pd.read_parquet(f"results/study/samples_{name}.parquet"))
+        assert records(table) == committed
+
+
+@pytest.mark.parametrize("var,mean,sd,lo,hi", [
+    (Variable("x", "uniform", bounds=(2.0, 6.0)), 4.0, 4.0 / np.sqrt(12), 2.0, 6.0),
+    (Variable("x", "normal", mean=10.0, sd=2.0), 10.0, 2.0, -np.inf, np.inf),
+    (Variable("x", "normal", mean=10.0, cov=0.2), 10.0, 2.0, -np.inf, np.inf),
+    # a normal cut symmetrically at +-1 sd: sd = sqrt(1 - 2 phi(1) / (2 Phi(1) - 1)) of the parent's
+    (Variable("x", "truncated_normal", mean=10.0, sd=2.0, bounds=(8.0, 12.0)), 10.0,
+     2.0 * np.sqrt(1 - 2 * stats.norm.pdf(1) / (2 * stats.norm.cdf(1) - 1)), 8.0, 12.0),
+    (Variable("x", "lognormal", mean=3.0, cov=0.25), 3.0, 0.75, 0.0, np.inf),
+])
+def test_each_distribution_draws_its_marginal(var, mean, sd, lo, hi):
+    """A Latin Hypercube of 20,000 puts one value in each stratum: the
+    sample's mean and sd are the distribution's to a fraction of a percent."""
+    x = lhs(20_000, [var], correlations={}, seed=3)[0]["x"]
+    assert x.min() >= lo and x.max() <= hi
+    assert x.mean() == pytest.approx(mean, rel=2e-3)
+    assert x.std() == pytest.approx(sd, rel=1e-2)
+
+
+def test_a_lognormal_cut_to_bounds_stays_inside_them():
+    x = lhs(5_000, [Variable("x", "lognormal", mean=3.0, cov=0.5, bounds=(2.0, 4.0))], correlations={}, seed=1)[0]["x"]
+    assert 2.0 <= x.min() and x.max() <= 4.0
+    # one value per stratum of the cut distribution: its quantiles are the sample's
+    F = stats.lognorm(s=np.sqrt(np.log(1.25)), scale=3.0 / np.sqrt(1.25))
+    u = (F.cdf(np.sort(x)) - F.cdf(2.0)) / (F.cdf(4.0) - F.cdf(2.0))
+    assert np.all(np.floor(u * 5000) == np.arange(5000))
+
+
+def _study(tmp_path, **change):
+    data = yaml.safe_load(Path(WILLIS).read_text())
+    for key, value in change.items():
+        node = data
+        *head, last = key.split("__")
+        for k in head:
+            node = node[k]
+        if value is None:
+            del node[last]
+        else:
+            node[last] = value
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump(data))
+    return str(path)
+
+
+@pytest.mark.parametrize("change,field,words", [
+    (dict(samples=0), "study.samples", "minimum"),
+    (dict(variables__f_tj__setting="materials.joints.fx"), "study.variables.f_tj.setting", "not a numeric setting"),
+    (dict(variables__f_tj__mean="0.3 mm"), "study.variables.f_tj.mean", "a length"),
+    (dict(variables__f_tj__mean=0.3), "study.variables.f_tj", "did you mean 0.3 MPa?"),
+    (dict(variables__f_tj__distribution="uniform"), "study.variables.f_tj", "needs bounds"),
+    (dict(variables__f_tj__cov=None), "study.variables.f_tj", "one of cov or sd"),
+    (dict(variables__f_tj__per="brick"), "study.variables.f_tj.per", "is not one of"),
+    (dict(correlations=[{"between": ["E_b", "f_x"], "rho": 0.5}]), "study.correlations.0.between.1", "not a variable"),
+    (dict(variants__spatial__draw="grid"), "study.variants.spatial.draw", "is not one of"),
+    (dict(variants__spatial__draw="field"), "study.variants.spatial.correlation_length", "needs its correlation length"),
+    (dict(variants__spatial__correlation_length="0.3 m"), "study.variants.spatial.correlation_length", "only a field"),
+    (dict(variants__spatial={"draw": "field", "correlation_length": "300 MPa"}),
+     "study.variants.spatial.correlation_length", "a stress"),
+    (dict(sweep__levels=["0 MPa", "0.15"]), "study.sweep.levels.1", "did you mean 0.15 MPa?"),
+    (dict(rules={"materials.joints.GI_per_ft": 0.03}), "study.rules", "did you mean 0.03 mm?"),
+    (dict(scene="config/scenes/none.yaml"), "study.scene", "cannot read"),
+    (dict(regression={"features": ["f_tu", "f_x^2"]}), "study.regression.features.1", "'f_x' in 'f_x^2' is not an input"),
+    (dict(regression={"features": ["f_tu^1.5"]}), "study.regression.features.0", "a whole number from 1 to 4"),
+    (dict(sweep__name="f_tj"), "study.sweep.name", "a variable's name too"),
+])
+def test_a_bad_study_file_is_refused_naming_the_field(tmp_path, change, field, words):
+    with pytest.raises(InputError) as e:
+        load_study(_study(tmp_path, **change))
+    assert e.value.field == field and words in e.value.reason, str(e.value)
+
+
+def test_a_field_variant_reads_its_correlation_length_in_any_length_unit(tmp_path):
+    s = load_study(_study(tmp_path, variants__spatial={"draw": "field", "correlation_length": "300 mm"}))
+    assert s.variants["spatial"] == {"draw": "field", "correlation_length": 0.3}
+
+
+def test_the_inputs_columns_and_terms_of_a_study(tmp_path):
+    """Each input (a variable, or the sweep by its name) has the runs
+    table's column of its name and the unit it is shown in; the terms
+    parse into powers and products of inputs; without a regression, each
+    input enters linearly."""
+    from masonrydem.studyfile import parse_term
+    s = load_study(WILLIS)
+    assert s.columns() == dict(f_tj="f_tj_mpa", f_tu="f_tu_mpa", phi_j="phi_j_deg", E_b="E_b_mpa", sigma_v="sigma_v_mpa")
+    assert s.features == ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v") and s.level_column() == "sigma_v_mpa"
+    assert s.means() == dict(f_tj=0.3, f_tu=3.75, phi_j=35.0, E_b=15000.0)
+    assert parse_term("f_tj^2 * sigma_v", s.units) == (("f_tj", 2), ("sigma_v", 1))
+    t = load_study(_study(tmp_path, sweep={"setting": "geometry.joint_thickness", "levels": ["10 mm", "12 mm"]},
+                          regression=None))
+    assert (t.sweep_name, t.level_column(), t.levels) == ("joint_thickness", "joint_thickness_mm", (0.01, 0.012))
+    assert t.features == tuple(v.name for v in t.variables) + ("joint_thickness",)

@@ -1,0 +1,27 @@
+"""Pages of the report for further studies (config further_studies), each
+run on its own by its own workflow config: its committed statistics and
+equations as one HTML page, with a caption that states its numbers."""
+import sys
+from pathlib import Path
+
+sm = snakemake  # noqa: F821
+sys.stderr = sys.stdout = open(sm.log[0], "w")
+
+import pandas as pd  # noqa: E402
+
+from masonrydem import captions  # noqa: E402
+
+for name, study in sm.params.studies.items():
+    st = pd.read_csv(sm.input[f"{name}_statistics"])
+    eq = pd.read_csv(sm.input[f"{name}_equations"])
+    tables = captions.html_table(st, f"{study['title']}: P_max and strength per variant, level and mode")
+    tables = tables.replace("\n</body></html>\n", "\n" + captions.html_table(eq, "Prediction equations").split("<body>", 1)[1])
+    Path(sm.output[f"{name}_page"]).write_text(tables)
+    ns = st[(st.variant == "nonspatial") & (st["mode"] == "all")]
+    means = "; ".join(f"{r.sigma_v_mpa:g} MPa: {r.P_max_mean_kN:.2f} kN (COV {r.P_max_cov:.2f}), "
+                      f"{r.strength_mean_mpa:.2f} MPa, brick share {r.brick_share:.0%}" for r in ns.itertuples())
+    eqs = eq.set_index("mode").equation
+    captions.write_caption(sm.input.template, sm.output[f"{name}_caption"], title=study["title"],
+                           results=study["results"], workflow=study["workflow"], means=means,
+                           joint=eqs.get("joint", "none"), brick=eqs.get("brick", "none"))
+    print(name, st.shape, eq.shape)
