@@ -139,7 +139,7 @@ def kernel_times(overrides, steps=6000, ramp=2000):
     s, _, _ = run(s, steps, controls=Controls(ramp_steps=ramp), chunk=500)
     nodes = s.nodes._replace(v=s.nodes.v.copy(), f=np.zeros_like(s.nodes.f))
     zs = s.zones._replace(state=s.zones.state.copy(), stress=s.zones.stress.copy())
-    js = s.joints._replace(state=s.joints.state.copy())
+    js = s.joints._replace(state=np.copy(s.joints.state))
     cs = s.assembly.cells
     zone_kernel, cell_kernel, joint_kernel = _kernels(s.assembly.zlaw, s.assembly.jlaw)
     nt, nc, nsc = zs.tets.shape[0], cs.nodes.shape[0], js.area.shape[0]

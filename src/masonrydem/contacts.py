@@ -81,15 +81,21 @@ class SubContacts:
         return len(self.area)
 
     def pack(self):
-        """(kernels.Contacts without rigid levers, positions (n, 3))."""
+        """(kernels.Contacts without rigid levers, positions (n, 3)).  The
+        axes, parameters, state and work space are Fortran-ordered, a column
+        per quantity, so that the law's loop over the sub-contacts compiles to
+        vector code (kernels/joints.py)."""
         n = len(self.area)
+
+        def col(rows, m):
+            return np.asfortranarray(np.array(rows, float).reshape(n, m))
         nodes = np.array(self.nodes, np.int32).reshape(n, 8)     # int32: half the bytes a step streams
         return K.Contacts(
             nodes=nodes, cnt=np.array(self.cnt, np.int64).reshape(n, 2), w=np.array(self.w, float).reshape(n, 8),
             body=np.zeros((0, 2), np.int64), lever=np.zeros((0, 2, 3)),
-            axes=np.array(self.axes, float).reshape(n, 9), area=np.array(self.area, float).reshape(n),
-            par=np.array(self.par, float).reshape(n, K.N_JP), state=np.zeros((n, K.N_JS)),
-            force=np.zeros((n, 3)), gptr=np.zeros(1, np.int64), gs=np.zeros(0, np.int64), gw=np.zeros(0),
+            axes=col(self.axes, 9), area=np.array(self.area, float).reshape(n),
+            par=col(self.par, K.N_JP), state=np.zeros((n, K.N_JS), order="F"),
+            force=np.zeros((n, 3), order="F"), gptr=np.zeros(1, np.int64), gs=np.zeros(0, np.int64), gw=np.zeros(0),
         ), np.array(self.point, float).reshape(n, 3)
 
 

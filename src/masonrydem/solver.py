@@ -123,8 +123,8 @@ def init(assembly, numerics=Numerics()):
                        gravity_on=int(np.any(a.gravity != 0.0)), kernel=None)
     state = State(a, integ, nodes, a.zones._replace(state=np.zeros_like(a.zones.state),
                                                     stress=np.zeros_like(a.zones.stress)),
-                  a.joints._replace(state=a.joints.state.copy(), force=np.zeros_like(a.joints.force)),
-                  a.bearings._replace(state=a.bearings.state.copy(), force=np.zeros_like(a.bearings.force)),
+                  a.joints._replace(state=np.copy(a.joints.state), force=np.zeros_like(a.joints.force)),
+                  a.bearings._replace(state=np.copy(a.bearings.state), force=np.zeros_like(a.bearings.force)),
                   bodies, scratch, np.zeros(2))
     return state._replace(integrator=integ._replace(kernel=specialised(_kernel_args(state, Controls(), 0))))
 
