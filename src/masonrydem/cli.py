@@ -21,7 +21,8 @@ written: the row's status says how the run ended.
 A study job (--samples) reads one sample of a study's samples file and
 runs the scene with that sample's settings (study.py).  The run reports
 its own start-up, ``startup_s``: from the interpreter's start to the
-simulation's start (imports and reading the inputs).  Run as
+simulation's start (imports and reading the inputs), or, for a job run in
+a warm process (``run_job``), from the job's start.  Run as
 ``python -m masonrydem.cli``, it skips the interpreter's teardown of numba
 and LLVM once its outputs are written (0.2 s of a job that simulates for 2).
 """
@@ -103,7 +104,9 @@ def scene_of(args):
         return validate_scene(raw), e
 
 
-def _run(args):
+def _run(args, stream=None, started=None):
+    """``run``; its messages to ``stream`` (None: stdout and stderr);
+    ``started``: when the job started (None: the interpreter's start)."""
     check_threads(args.threads)
     scene, refused = scene_of(args)
     out = output_dir(args.out)
@@ -111,7 +114,7 @@ def _run(args):
 
     from .results import empty_curve, error_row, write
     numba.set_num_threads(args.threads)
-    startup = time.time() - _process_start()
+    startup = time.time() - (_process_start() if started is None else started)
     labels = dict(variant=args.variant, sample=args.sample) if args.samples is not None else {}
     t0 = time.perf_counter()
     try:
@@ -119,13 +122,13 @@ def _run(args):
             raise refused
         row, curve, state, error = _simulate(scene, not args.quiet, labels)
     except Exception as e:   # nothing lost: the row says what happened
-        traceback.print_exc()
+        traceback.print_exc(file=stream or sys.stderr)
         inputs = _sample_inputs(args) if refused is not None else {}
         row, curve, error = error_row(scene, e, time.perf_counter() - t0, **labels, inputs=inputs), empty_curve(), e
         state = True if scene.outputs.state else None
     row.startup_s = startup
     write(out, row, curve, args.format, state)
-    return _report(row, error, out, args.exit_zero)
+    return _report(row, error, out, args.exit_zero, stream)
 
 
 def _sample_inputs(args):
@@ -146,19 +149,79 @@ def _simulate(scene, progress, labels):
     return outcome_row(outcome, **labels), curve(outcome), state, None
 
 
-def _report(row, error, out, exit_zero):
+def _report(row, error, out, exit_zero, stream=None):
+    err = stream or sys.stderr
     if isinstance(error, InputError):   # found only once the model was built (or a sample the scene refused)
-        print(f"masonrydem: invalid input: {error} (status 'error' -> {out})", file=sys.stderr)
+        print(f"masonrydem: invalid input: {error} (status 'error' -> {out})", file=err)
         return 0 if exit_zero else 2
     if error is not None:
-        print(f"masonrydem: internal error: {row.message} (status 'error' -> {out})", file=sys.stderr)
+        print(f"masonrydem: internal error: {row.message} (status 'error' -> {out})", file=err)
         return 0 if exit_zero else 3
     print(f"{row.status}: P_max {row.P_max_kN:.3f} kN at {row.disp_at_peak_mm:.3f} mm, "
           f"strength {row.strength_mpa:.3f} MPa, {row.classification}; "
-          f"{row.steps} steps, {row.wall_time_s:.1f} s -> {out}")
+          f"{row.steps} steps, {row.wall_time_s:.1f} s -> {out}", file=stream or sys.stdout)
     if not row.ok:
-        print(f"masonrydem: the run ended not ok ({row.status}): {row.message}", file=sys.stderr)
+        print(f"masonrydem: the run ended not ok ({row.status}): {row.message}", file=err)
     return 0 if row.ok or exit_zero else 1
+
+
+class Interrupted(BaseException):
+    """Raised in a job that ``run_job`` runs in a thread when this process
+    is interrupted (Ctrl-C): not an Exception, so that no handler records
+    it as a failed run; the job fails, and Snakemake removes its outputs."""
+
+
+_JOBS = set()       # the threads of this process that run a job (run_job)
+_INTERRUPT = []     # the SIGINT handler installed, once
+
+
+def interrupt_jobs_on_sigint():
+    """Ctrl-C interrupts the jobs ``run_job`` runs in threads of this
+    process as it interrupts a job in a process of its own: each gets
+    ``Interrupted`` at its next return from the compiled kernel (within a
+    chunk of steps), then the handler that was there runs (Snakemake's
+    KeyboardInterrupt).  Installed from the main thread (the workflow, as
+    Snakemake reads it); nothing where SIGINT is ignored (a background run)."""
+    import signal
+    import threading
+    if _INTERRUPT or threading.current_thread() is not threading.main_thread():
+        return
+    previous = signal.getsignal(signal.SIGINT)
+    if previous in (signal.SIG_IGN, None):
+        return
+
+    def interrupt(signum, frame):
+        import ctypes
+        for ident in list(_JOBS):
+            ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(ident), ctypes.py_object(Interrupted))
+        (previous if callable(previous) else signal.default_int_handler)(signum, frame)
+    signal.signal(signal.SIGINT, interrupt)
+    _INTERRUPT.append(interrupt)
+
+
+def run_job(argv, log):
+    """``masonrydem run`` with the arguments ``argv`` in this process,
+    quietly, its messages and any traceback written to the file ``log``.
+    The workflow's simulation jobs run so, in threads of Snakemake's own
+    process (profiles/default: force-use-threads), where the package and
+    its compiled kernels load once rather than once a job; the step kernel
+    releases the GIL.  ``startup_s`` is then the job's own, from this call
+    to the simulation's start.  Returns the exit code, as ``main``;
+    Ctrl-C raises ``Interrupted`` (``interrupt_jobs_on_sigint``)."""
+    import threading
+    started = time.time()
+    _JOBS.add(threading.get_ident())
+    try:
+        with open(log, "w") as stream:
+            try:
+                return main(["run", *argv, "--quiet"], stream, started)
+            except SystemExit as e:         # arguments argparse refuses (its message on stderr)
+                return e.code
+            except Interrupted:
+                print("masonrydem: interrupted (Ctrl-C); its outputs are removed", file=stream)
+                raise
+    finally:
+        _JOBS.discard(threading.get_ident())
 
 
 def _process_start():
@@ -235,19 +298,22 @@ def parser():
     return p
 
 
-COMMANDS = dict(run=_run, check=_check, predict=_predict)
+COMMANDS = dict(check=_check, predict=_predict)   # and run (main)
 
 
-def main(argv=None):
+def main(argv=None, stream=None, started=None):
+    """The command line ``argv``; the exit code.  ``stream`` and
+    ``started``: a run's messages and its start (``run_job``)."""
     args = parser().parse_args(argv)
+    err = stream or sys.stderr
     try:
-        return COMMANDS[args.command](args)
+        return _run(args, stream, started) if args.command == "run" else COMMANDS[args.command](args)
     except InputError as e:
-        print(f"masonrydem: invalid input: {e}", file=sys.stderr)
+        print(f"masonrydem: invalid input: {e}", file=err)
         return 2
     except Exception:
-        traceback.print_exc()
-        print("masonrydem: internal error (please report it with the traceback above)", file=sys.stderr)
+        traceback.print_exc(file=err)
+        print("masonrydem: internal error (please report it with the traceback above)", file=err)
         return 3
 
 

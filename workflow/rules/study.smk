@@ -53,19 +53,12 @@ rule simulate:
         sets=get_study_sets,
         out=get_run_dir,
         solver=get_solver_hash(),
-        python=get_python,
         scene=get_file_digest(get_study_scene()),
     log:
         f"{R}/logs/study/{{variant}}_{{level}}_s{{sample}}.log",
     threads: 1
-    conda:
-        ENV
-    shell:
-        # the command line as in RUN, no script wrapper: a light job that starts
-        # in a fraction of a second, its row and curve as JSON
-        "{params.python:q} -m masonrydem.cli run {input.scene:q} {params.sets} --out {params.out:q} "
-        "--threads {threads} --exit-zero --format json --samples {input.samples:q} --sample {wildcards.sample} "
-        "--variant {wildcards.variant} > {log:q} 2>&1"
+    run:
+        run_study_job(input, params, wildcards, threads, log)
 
 
 rule collect:
