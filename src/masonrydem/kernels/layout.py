@@ -117,7 +117,9 @@ class Contacts(NamedTuple):
     Deformable blocks gather the sub-contacts' forces per node (CSR, in
     sub-contact order): node i takes gw[j] force[gs[j]] for j in
     gptr[i]:gptr[i + 1], gw the interpolation weight, negative on side B
-    (``contacts.with_gather``)."""
+    (``contacts.with_gather``).  axes, par, state and force are
+    Fortran-ordered, a column per quantity (``contacts.SubContacts.pack``):
+    the law's loop over them compiles to vector code."""
     nodes: np.ndarray   # (n, 8)
     cnt: np.ndarray     # (n, 2)
     w: np.ndarray       # (n, 8)
