@@ -13,9 +13,10 @@ results/study/timing.csv, one row:
   cores            the cores given to Snakemake
   mean_run_s       mean wall time of a run inside the solver (its row's
                    wall_time_s: building the model, loading the kernels, the steps)
-  mean_startup_s   mean start-up of a simulation job, from the interpreter's
-                   start to the first step's set-up (its row's startup_s:
-                   imports and reading the inputs)
+  mean_startup_s   mean start-up of a simulation job, from the job's start
+                   to the first step's set-up (its row's startup_s: reading
+                   the inputs; for a job in a process of its own, from the
+                   interpreter's start, the imports too)
   mean_steps       mean time steps of a run
   solver_version   the rows' solver version (one for all)
 
