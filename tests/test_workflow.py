@@ -235,6 +235,7 @@ def test_a_study_that_sweeps_another_setting(tmp_path):
     assert predictor["inputs"]["t"] == dict(unit="m", shown="mm", column="t_mm")
     assert predictor["fitted_range"]["t"] == [8.0, 14.0]
     assert "sweeps geometry.joint_thickness" in (out / "design_comparison.csv").read_text()
+    assert sorted(pd.read_csv(out / "characteristic.csv").t_mm) == [8.0, 14.0]
     assert "levels of t (8, 14 mm)" in (tmp_path / "results" / "report" / "workflow.rst").read_text()
 
 

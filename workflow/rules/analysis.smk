@@ -58,6 +58,27 @@ rule regression:
         "../scripts/regression.py"
 
 
+rule characteristic:
+    """The 5 % fractile of the strength per variant and level, two ways,
+    beside the design rules (src/masonrydem/fractiles.py)."""
+    input:
+        runs=f"{R}/study/runs.parquet",
+        design=f"{R}/study/design_comparison.csv",
+        template=get_template("characteristic"),
+    output:
+        table=report(f"{R}/study/characteristic.csv", caption=get_caption("characteristic"), category="Prediction"),
+        caption=get_caption_file("characteristic"),
+    params:
+        code=get_code("characteristic"),
+        analysis=plan.analysis(config),
+    log:
+        f"{R}/logs/study/characteristic.log",
+    conda:
+        ENV
+    script:
+        "../scripts/characteristic.py"
+
+
 if "paper_comparison" in TABLES:
 
     rule scorecard:
