@@ -58,6 +58,30 @@ rule regression:
         "../scripts/regression.py"
 
 
+rule sensitivity:
+    """Sobol indices of the strength per variant, level and mode, on a
+    surrogate of the runs (src/masonrydem/sensitivity.py)."""
+    input:
+        runs=f"{R}/study/runs.parquet",
+        correlations=f"{R}/study/correlations.csv",
+        template=get_template("sensitivity"),
+    output:
+        table=report(f"{R}/study/sensitivity.csv", caption=get_caption("sensitivity"), category="Study"),
+        figure=report(f"{R}/study/sensitivity.png", caption=get_caption("sensitivity"), category="Study"),
+        caption=get_caption_file("sensitivity"),
+    params:
+        code=get_code("sensitivity"),
+        analysis=plan.analysis(config),
+        design=get_study_design(),
+        seed=plan.study(config).seed,
+    log:
+        f"{R}/logs/study/sensitivity.log",
+    conda:
+        ENV
+    script:
+        "../scripts/sensitivity.py"
+
+
 rule characteristic:
     """The 5 % fractile of the strength per variant and level, two ways,
     beside the design rules (src/masonrydem/fractiles.py)."""

@@ -183,6 +183,7 @@ TABLES = {
     "correlations": ("Pearson correlations of P_max with the random inputs", "Study", "correlations"),
     "equations": ("Prediction equations (Lasso, 5-fold CV) with 95 % intervals", "Prediction", "equations"),
     "design_comparison": ("Design rules against the simulations", "Prediction", "design_comparison"),
+    "sensitivity": ("Sobol indices with 95 % intervals, beside the Pearson correlations", "Study", "sensitivity"),
     "characteristic": ("Characteristic (5 %) strengths with 95 % intervals", "Prediction", "characteristic"),
     "paper_comparison": ("The source paper side by side", "Paper side by side", "paper_comparison"),
 }
@@ -202,7 +203,7 @@ def get_study_outputs():
     names = ("statistics.csv", "correlations.csv", "increase.csv", "sampling_check.csv", "running_mean.png",
              "brick_share.png", "correlation_vs_sigma.png", "scatter_deviation.png", "curves_by_mode.png",
              "equations.csv", "predictor.json", "predicted_vs_simulated.png", "design_comparison.png",
-             "characteristic.csv",
+             "characteristic.csv", "sensitivity.png",
              *(["paper_comparison.csv"] if "paper_comparison" in TABLES else []))
     return [*(f"{R}/study/pictures/{v}_{m}.png" for v, m in plan.study_pictures(config)),
             *(f"{R}/study/{name}" for name in names),
