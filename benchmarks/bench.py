@@ -25,6 +25,9 @@ paper's model), its figures in brick failure, and
                           it: the mean wall time and steps of 12 study
                           runs (6 committed samples at 0 and 0.5 MPa), the
                           time against 'before' and the change of P_max
+  bootstrap               the regression's bootstrap of the equations on
+                          the committed runs: ms per resample on one
+                          process and on two, and whether both agree
 The kernels are timed on realistic states: the wallette loaded past its
 peak (joint failure: joints softening), and a strong-joint wallette past
 its peak (brick failure: zones or crack interfaces cracking).  ``--tiny``:
@@ -229,6 +232,26 @@ def lever_times(n=6, levels=(0.0, 0.5)):
     return out
 
 
+def bootstrap_times(tiny):
+    """The regression's bootstrap of the equations (equations.equation_intervals)
+    on the committed study's ok non-spatial runs: its time on one process and
+    on two, per resample, and whether the two give the same intervals."""
+    import pandas as pd
+    from masonrydem import equations as E
+    runs = pd.read_parquet("results/study/runs.parquet")
+    ns = runs[runs.ok & (runs.variant == "nonspatial")]
+    if tiny:
+        ns = ns[ns["sample"] < 30]
+    n = 24 if tiny else 200
+    out, tables = {}, []
+    for jobs in (1, 2):
+        t0 = time.perf_counter()
+        tables.append(E.equation_intervals(ns, resamples=n, seed=0, jobs=jobs, block=12 if tiny else 100))
+        out[f"jobs{jobs}_ms_per_resample"] = round(1e3 * (time.perf_counter() - t0) / n, 1)
+    out.update(resamples=n, same=bool(tables[0].equals(tables[1])))
+    return out
+
+
 def main(tiny=False):
     fresh_process_times(1)          # make sure the cache is warm
     import_s, load_s = fresh_process_times(1 if tiny else 3)
@@ -243,7 +266,8 @@ def main(tiny=False):
             models[name]["brick_failure"] = {k: v for k, v in brick.items()
                                              if k.startswith(("ns_", "steps_", "cracked"))}
     out = dict(models["elasto-plastic"])
-    out.update(kernel_load_s=round(load_s, 3), import_s=round(import_s, 3), job=job_times(tiny), models=models)
+    out.update(kernel_load_s=round(load_s, 3), import_s=round(import_s, 3), job=job_times(tiny), models=models,
+               bootstrap=bootstrap_times(tiny))
     if not tiny:
         out["levers"] = lever_times()
     print(json.dumps(out))

@@ -37,3 +37,4 @@ def test_bench_runs_on_a_tiny_wallette(monkeypatch):
     assert models["elastic-tet10"]["cells"] == 4 and models["elastic-tet10"]["tetrahedra"] == 0
     assert models["rigid"]["tetrahedra"] == models["rigid"]["cells"] == 0
     assert r["job"]["steps"] > 0
+    assert r["bootstrap"]["same"]       # the bootstrap on two processes gives the intervals of one

@@ -120,6 +120,19 @@ def test_equation_intervals_hold_the_true_coefficients():
     assert 1 / 1.5 < (ci["f_tj_hi"] - ci["f_tj_lo"]) / (2 * 1.96 * se) < 1.5
 
 
+def test_equation_intervals_do_not_depend_on_the_number_of_processes():
+    """The refits of the bootstrap are deterministic: on two processes, in
+    blocks, they give the intervals of one process to the last bit, and the
+    progress reaches every resample."""
+    runs = _runs(n=30, seed=5)
+    ok = runs[runs.ok]
+    seen = []
+    one = E.equation_intervals(ok, resamples=30, seed=3)
+    two = E.equation_intervals(ok, resamples=30, seed=3, jobs=2, block=12, progress=lambda k, n: seen.append((k, n)))
+    pd.testing.assert_frame_equal(one, two, check_exact=True)
+    assert seen == [(12, 30), (24, 30), (30, 30)]
+
+
 @pytest.fixture(scope="module")
 def paper():
     with open("config/paper.yaml") as f:

@@ -168,34 +168,52 @@ def equation_terms(terms=FEATURES):
     return ("intercept",) + tuple(terms) + ("mape_pct",)
 
 
-def equation_intervals(ns, resamples, seed, progress=None, terms=FEATURES, columns=COLUMNS):
+def equation_intervals(ns, resamples, seed, progress=None, terms=FEATURES, columns=COLUMNS, jobs=1, block=100):
     """95 % bootstrap intervals (analysis.bootstrap_interval, whole samples
     resampled) of the prediction equations of ``prediction_equations``:
     per mode the intercept, the coefficients and the MAPE of the fit
     (each resample refits, penalty chosen by cross-validation included;
     the nested cross-validation is left out), and the lower-of-two MAPE.
-    NaN where a resample leaves a mode too few samples to fit.  Returns a
-    frame with the column mode and <term>_lo, <term>_hi."""
+    NaN where a resample leaves a mode too few samples to fit.  The
+    resamples are fitted in blocks of ``block``, on ``jobs`` processes
+    (joblib); each fit is deterministic, so the intervals do not depend on
+    ``jobs``.  Returns a frame with the column mode and <term>_lo, <term>_hi."""
     from .analysis import bootstrap_interval
     samples = np.sort(ns["sample"].unique())
     by_sample = [ns[ns["sample"] == s] for s in samples]
     names = equation_terms(terms)
 
-    def one(idx):
-        _, rows, _ = prediction_equations(pd.concat([by_sample[i] for i in idx]), terms, columns, nested=False)
-        rows = {r["mode"]: r for r in rows}
-        return [rows.get(m, {}).get(t, np.nan) for m in ("joint", "brick") for t in names] + \
-            [rows.get("lower of two", {}).get("mape_pct", np.nan)]
-
     def statistic(idx):
-        out = []
-        for k, i in enumerate(idx):
-            out.append(one(i))
-            if progress and (k + 1) % 100 == 0:
-                progress(k + 1, len(idx))
+        blocks = [idx[k:k + block] for k in range(0, len(idx), block)]
+        out, done = [], 0
+        for part in _map_blocks(_refit_block, blocks, jobs, by_sample, terms, columns, names):
+            out.extend(part)
+            done += len(part)
+            if progress:
+                progress(done, len(idx))
         return np.array(out, float).T
     lo, hi = bootstrap_interval(samples.size, statistic, resamples, seed)
     n = len(names)
     rows = [dict(mode=m, **{f"{t}_{e}": b[k * n + j] for j, t in enumerate(names)
                             for e, b in (("lo", lo), ("hi", hi))}) for k, m in enumerate(("joint", "brick"))]
     return pd.DataFrame(rows + [dict(mode="lower of two", mape_pct_lo=lo[-1], mape_pct_hi=hi[-1])])
+
+
+def _refit_block(block, by_sample, terms, columns, names):
+    """The statistics of equation_intervals for each resample of a block."""
+    out = []
+    for idx in block:
+        _, rows, _ = prediction_equations(pd.concat([by_sample[i] for i in idx]), terms, columns, nested=False)
+        rows = {r["mode"]: r for r in rows}
+        out.append([rows.get(m, {}).get(t, np.nan) for m in ("joint", "brick") for t in names] +
+                   [rows.get("lower of two", {}).get("mape_pct", np.nan)])
+    return out
+
+
+def _map_blocks(fn, blocks, jobs, *args):
+    """fn(block, *args) for each block, in order, as each finishes: in this
+    process for one job, else on ``jobs`` joblib (loky) processes."""
+    if jobs <= 1:
+        return (fn(b, *args) for b in blocks)
+    from joblib import Parallel, delayed
+    return Parallel(n_jobs=jobs, return_as="generator")(delayed(fn)(b, *args) for b in blocks)

@@ -52,6 +52,7 @@ rule regression:
         analysis=plan.analysis(config),
     log:
         f"{R}/logs/study/regression.log",
+    threads: 2      # the bootstrap's refits on two processes (equations.equation_intervals)
     conda:
         ENV
     script:

@@ -23,7 +23,7 @@ runs = pd.read_parquet(sm.input.runs)
 ns = runs[runs.ok & (runs.variant == "nonspatial")]
 fits, rows, resid_sd = E.prediction_equations(ns, terms, columns)
 # the equations' 95 % intervals: every resample refits both modes
-intervals = E.equation_intervals(ns, **sm.params.bootstrap, terms=terms, columns=columns,
+intervals = E.equation_intervals(ns, **sm.params.bootstrap, terms=terms, columns=columns, jobs=sm.threads,
                                  progress=lambda k, n: print(f"bootstrap: {k} of {n} resamples", flush=True))
 pd.DataFrame(rows).merge(intervals, on="mode", how="left").to_csv(sm.output.equations, index=False,
                                                                   float_format="%.5g")
