@@ -97,7 +97,9 @@ def _study(tmp_path, **change):
     (dict(rules={"materials.joints.GI_per_ft": 0.03}), "study.rules", "did you mean 0.03 mm?"),
     (dict(scene="config/scenes/none.yaml"), "study.scene", "cannot read"),
     (dict(regression={"features": ["f_tu", "f_x^2"]}), "study.regression.features.1", "'f_x' in 'f_x^2' is not an input"),
-    (dict(regression={"features": ["f_tu^1.5"]}), "study.regression.features.0", "a whole number from 1 to 4"),
+    (dict(regression={"features": ["f_tu^"]}), "study.regression.features.0", "is not an arithmetic expression"),
+    (dict(regression={"features": ["f_tu.real"]}), "study.regression.features.0", "only inputs, numbers"),
+    (dict(regression={"features": ["2^3"]}), "study.regression.features.0", "uses no input"),
     (dict(sweep__name="f_tj"), "study.sweep.name", "a variable's name too"),
 ])
 def test_a_bad_study_file_is_refused_naming_the_field(tmp_path, change, field, words):
@@ -114,14 +116,19 @@ def test_a_field_variant_reads_its_correlation_length_in_any_length_unit(tmp_pat
 def test_the_inputs_columns_and_terms_of_a_study(tmp_path):
     """Each input (a variable, or the sweep by its name) has the runs
     table's column of its name and the unit it is shown in; the terms
-    parse into powers and products of inputs; without a regression, each
-    input enters linearly."""
-    from masonrydem.studyfile import parse_term
+    are arithmetic expressions of inputs (the names they use; their values
+    by hand); without a regression, each input enters linearly."""
+    import numpy as np
+    from masonrydem.studyfile import evaluate_term, parse_term
     s = load_study(WILLIS)
     assert s.columns() == dict(f_tj="f_tj_mpa", f_tu="f_tu_mpa", phi_j="phi_j_deg", E_b="E_b_mpa", sigma_v="sigma_v_mpa")
     assert s.features == ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v") and s.level_column() == "sigma_v_mpa"
     assert s.means() == dict(f_tj=0.3, f_tu=3.75, phi_j=35.0, E_b=15000.0)
-    assert parse_term("f_tj^2 * sigma_v", s.units) == (("f_tj", 2), ("sigma_v", 1))
+    assert parse_term("f_tj^2 * sigma_v", s.units)[1] == ("f_tj", "sigma_v")
+    x = dict(f_tj=np.array([0.2, 0.4]), sigma_v=np.array([0.5, 0.1]), f_tu=np.array([3.0, 4.0]))
+    np.testing.assert_array_equal(evaluate_term("f_tj^2 * sigma_v", x), [0.2 ** 2 * 0.5, 0.4 ** 2 * 0.1])
+    np.testing.assert_array_equal(evaluate_term("-f_tj*(f_tu + 1)/(2*sigma_v)", x),
+                                  [-0.2 * 4.0 / 1.0, -0.4 * 5.0 / 0.2])
     t = load_study(_study(tmp_path, sweep={"setting": "geometry.joint_thickness", "levels": ["10 mm", "12 mm"]},
                           regression=None))
     assert (t.sweep_name, t.level_column(), t.levels) == ("joint_thickness", "joint_thickness_mm", (0.01, 0.012))

@@ -4,8 +4,9 @@ the lower of the two as the predictor.
 
 An equation's terms are named as a study file's regression names them
 (studyfile.parse_term): an input (a random variable, or the swept setting
-by its name), a power of one ('f_tu^2') or a product ('f_tj*sigma_v'),
-each input in the unit the runs table shows it in (MPa, mm, deg).
+by its name), a power of one ('f_tu^2'), a product ('f_tj*sigma_v') or any
+arithmetic expression of inputs ('f_tj*(L + t)/(H + t)'), each input in the
+unit the runs table shows it in (MPa, mm, deg).
 ``inputs`` below is a mapping input -> values; ``inputs_of`` takes it from
 a runs table by the study's columns (Study.columns).  An equation is a
 dict with its intercept and coef (term -> coefficient, in the order of the
@@ -18,7 +19,7 @@ from sklearn.model_selection import GroupKFold
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
-from .studyfile import parse_term
+from .studyfile import evaluate_term
 
 ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
 
@@ -37,12 +38,7 @@ def inputs_of(runs, columns=COLUMNS):
 def features(inputs, terms=FEATURES):
     """The matrix of the ``terms`` (one column each) over ``inputs``."""
     inputs = {k: np.asarray(v, float) for k, v in inputs.items()}
-    columns = []
-    for term in terms:
-        value = 1.0
-        for name, power in parse_term(term, inputs):
-            value = value * inputs[name] ** power
-        columns.append(value)
+    columns = [np.asarray(evaluate_term(term, inputs), float) for term in terms]
     return np.column_stack(np.broadcast_arrays(*columns))
 
 

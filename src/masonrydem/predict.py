@@ -43,7 +43,7 @@ def build(fits, ns, scene, source, columns=None, units=None):
     from .equations import COLUMNS
     from .studyfile import parse_term
     columns, units = columns or COLUMNS, units or WILLIS_UNITS
-    used = dict.fromkeys(name for eq, _ in fits.values() for term in eq["coef"] for name, _ in parse_term(term, units))
+    used = dict.fromkeys(name for eq, _ in fits.values() for term in eq["coef"] for name in parse_term(term, units)[1])
     g, bend = scene.geometry, scene.loading.bending
     modes = {}
     for mode, (eq, _) in fits.items():

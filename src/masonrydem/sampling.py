@@ -26,7 +26,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import stats
+from scipy import special, stats
 from scipy.stats import qmc
 
 ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
@@ -53,14 +53,40 @@ class Variable:
             parent = stats.norm(loc=self.mean, scale=sd)
         else:
             cov = self.cov if self.cov is not None else sd / self.mean
-            s = math.sqrt(math.log(1.0 + cov ** 2))
-            parent = stats.lognorm(s=s, scale=self.mean / math.sqrt(1.0 + cov ** 2))
+            parent = Lognormal(math.sqrt(math.log(1.0 + cov ** 2)), self.mean / math.sqrt(1.0 + cov ** 2))
         if self.bounds is None:
             return parent
         lo, hi = self.bounds
         if self.dist in ("normal", "truncated_normal"):
             return stats.truncnorm((lo - self.mean) / sd, (hi - self.mean) / sd, loc=self.mean, scale=sd)
         return _Truncated(parent, lo, hi)
+
+
+class Lognormal:
+    """The lognormal distribution with log-SD ``s`` and median ``scale``,
+    scipy's lognorm(s, scale=scale) to the last bit on a CPU without
+    AVX-512, and on every CPU: its exp and log are the C library's, value
+    by value.  numpy's vectorised exp and log run code of their own on
+    AVX-512 CPUs, which differs in the last bit or two for some values, and
+    the samples, a study's inputs, must not depend on the machine."""
+
+    def __init__(self, s, scale):
+        self.s, self.scale = s, scale
+
+    def ppf(self, u):
+        z = self.s * special.ndtri(np.asarray(u, float))
+        return _elementwise(math.exp, z) * self.scale + 0.0        # as scipy: ppf * scale + loc
+
+    def cdf(self, x):
+        return special.ndtr(_elementwise(math.log, np.asarray(x, float) / self.scale) / self.s)
+
+    def mean(self):
+        return math.sqrt(math.exp(self.s * self.s)) * self.scale
+
+
+def _elementwise(fn, x):
+    """fn (a function of the math module) on each value of the array x."""
+    return np.vectorize(fn, otypes=[float])(x)
 
 
 class _Truncated:

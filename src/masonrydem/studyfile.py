@@ -11,7 +11,9 @@ validated with each variable at its mean and each level in turn), a
 correlation's variables and a regression feature.  Errors name the field
 as the study file writes it, prefixed by 'study.'.
 """
+import ast
 import copy
+import operator
 from dataclasses import dataclass, replace
 from importlib import resources
 
@@ -216,19 +218,48 @@ def input_means(variables):
             for v in variables}
 
 
+_OPERATORS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
+              ast.Pow: operator.pow, ast.USub: operator.neg, ast.UAdd: operator.pos}
+
+
 def parse_term(term, inputs):
-    """A regression feature as its factors ((input, power), ...): 'f_tu',
-    'f_tu^2', 'f_tj*sigma_v' over the names of ``inputs`` (the study's
-    variables and its sweep); ValueError says what is wrong."""
-    factors = []
-    for part in term.replace(" ", "").split("*"):
-        name, _, power = part.partition("^")
-        if name not in inputs:
-            raise ValueError(f"{name!r} in {term!r} is not an input: {', '.join(inputs)}")
-        if power and not (power.isdigit() and 1 <= int(power) <= 4):
-            raise ValueError(f"the power in {part!r} must be a whole number from 1 to 4")
-        factors.append((name, int(power or 1)))
-    return tuple(factors)
+    """A regression feature: an arithmetic expression of the inputs (the
+    names of ``inputs``: the study's variables and its sweep) and numbers
+    with + - * / ^ and brackets: 'f_tu', 'f_tu^2', 'f_tj*sigma_v',
+    'f_tj*(L + t)/(H + t)'.  Returns (its parsed form, the inputs it uses
+    in order); ValueError says what is wrong."""
+    try:
+        tree = ast.parse(term.replace("^", "**"), mode="eval").body
+    except SyntaxError:
+        raise ValueError(f"{term!r} is not an arithmetic expression of the inputs (+ - * / ^ and brackets)") from None
+    names = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Name):
+            if node.id not in inputs:
+                raise ValueError(f"{node.id!r} in {term!r} is not an input: {', '.join(inputs)}")
+            names.append((node.col_offset, node.id))
+        elif isinstance(node, ast.Constant):
+            if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
+                raise ValueError(f"{node.value!r} in {term!r} is not a number")
+        elif not isinstance(node, (ast.BinOp, ast.UnaryOp, ast.Load, *_OPERATORS)):
+            raise ValueError(f"{term!r}: only inputs, numbers, + - * / ^ and brackets")
+    if not names:
+        raise ValueError(f"{term!r} uses no input")
+    return tree, tuple(dict.fromkeys(name for _, name in sorted(names)))
+
+
+def evaluate_term(term, inputs):
+    """The values of the term ``term`` (parse_term) over ``inputs`` (input ->
+    values)."""
+    def value(node):
+        if isinstance(node, ast.Name):
+            return inputs[node.id]
+        if isinstance(node, ast.Constant):
+            return node.value
+        if isinstance(node, ast.UnaryOp):
+            return _OPERATORS[type(node.op)](value(node.operand))
+        return _OPERATORS[type(node.op)](value(node.left), value(node.right))
+    return value(parse_term(term, inputs)[0])
 
 
 def _fail_prefixed_at(field, fn):
