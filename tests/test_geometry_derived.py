@@ -65,8 +65,26 @@ def test_supports_and_loads_placed_by_their_spans():
     assert b.supports_x == pytest.approx((0.12, 0.72), abs=1e-12) and b.loads_x == pytest.approx((0.32, 0.52))
 
 
+def test_spans_in_unit_lengths_scale_with_the_brick():
+    """Spans in modelled unit lengths (230 + 10 mm): 275 / 240 and 260 / 240
+    place the Willis test's supports and loads; with a brick twice as long
+    (and its joint) the wall and the spans are twice as long too."""
+    b = _spans(("shear_span_units", 275 / 240), ("load_span_units", 260 / 240)).loading.bending
+    assert b.supports_x == pytest.approx((0.135, 0.945), abs=1e-12)
+    assert b.loads_x == pytest.approx((0.410, 0.670), abs=1e-12)
+    raw = read_scene(WILLIS)
+    bend = raw["loading"]["bending"]
+    del bend["supports_x"], bend["loads_x"]
+    bend.update(shear_span_units=275 / 240, load_span_units=260 / 240)
+    raw["geometry"]["unit"]["length"], raw["geometry"]["joint_thickness"] = 0.470, 0.010
+    b2 = validate_scene(raw).loading.bending
+    assert b2.supports_x == pytest.approx((0.27, 1.89), abs=1e-12) and b2.shear_span == pytest.approx(0.55)
+
+
 @pytest.mark.parametrize("changes,field", [
     ((("shear_span", 0.275),), "loading.bending.shear_span"),
+    ((("load_span_units", 1.08),), "loading.bending.load_span_units"),
+    ((("shear_span", 0.275), ("shear_span_units", 1.1), ("load_span", 0.26)), "loading.bending.shear_span_units"),
     ((("shear_span", 0.275), ("load_span", 0.26), ("loads_x", [0.41, 0.67])), "loading.bending.loads_x"),
     ((("shear_span", 0.6), ("load_span", 0.26)), "loading.bending.supports_x.0"),   # beyond the wall
 ])

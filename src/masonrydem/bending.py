@@ -4,20 +4,32 @@ before anything is built; errors name the scene's setting."""
 from .errors import InputError
 
 
+SPANS = ("shear_span", "load_span")
+
+
 def placed(b, g, given):
-    """(supports_x, loads_x): as given, or from shear_span and load_span,
-    symmetric about the wall's middle."""
-    spans = [k for k in ("shear_span", "load_span") if k in b]
+    """(supports_x, loads_x): as given, or from the shear span and the load
+    span, symmetric about the wall's middle; each span in metres
+    (shear_span) or in modelled unit lengths, brick plus joint
+    (shear_span_units), so that the test scales with the brick format."""
+    spans = {}
+    for key in SPANS:
+        if key in b and f"{key}_units" in b:
+            raise InputError(f"loading.bending.{key}_units", f"is given together with loading.bending.{key}: give "
+                             "the span in metres or in unit lengths, not both")
+        if key in b or f"{key}_units" in b:
+            spans[key] = (key, b[key]) if key in b else (f"{key}_units", b[f"{key}_units"] * g.modelled_unit[0])
     if not spans:
         return tuple(b["supports_x"]), tuple(b["loads_x"])
     if len(spans) == 1:
-        missing = ({"shear_span", "load_span"} - set(spans)).pop()
-        raise InputError(f"loading.bending.{spans[0]}", f"needs loading.bending.{missing} too (the supports and "
-                                                        "loads are placed symmetrically from both)")
+        (name, _), = spans.values()
+        missing = (set(SPANS) - set(spans)).pop()
+        raise InputError(f"loading.bending.{name}", f"needs loading.bending.{missing} (or {missing}_units) too "
+                                                    "(the supports and loads are placed symmetrically from both)")
     if given:
-        raise InputError(f"loading.bending.{sorted(given)[0]}", "is given together with shear_span and load_span: "
+        raise InputError(f"loading.bending.{sorted(given)[0]}", "is given together with the shear and load spans: "
                          "place the supports and loads either way, not both")
-    mid, half, a = 0.5 * g.length, 0.5 * b["load_span"], b["shear_span"]
+    mid, half, a = 0.5 * g.length, 0.5 * spans["load_span"][1], spans["shear_span"][1]
     return (mid - half - a, mid + half + a), (mid - half, mid + half)
 
 

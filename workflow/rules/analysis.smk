@@ -169,3 +169,33 @@ rule further_studies:
         ENV
     script:
         "../scripts/further_studies.py"
+
+
+if config.get("geometry_formats"):
+
+    rule geometry_formats:
+        """The geometry study's equations on formats they were not fitted to
+        (src/masonrydem/formats.py)."""
+        input:
+            predictor=f"{config['geometry_formats']['equations']}/study/predictor.json",
+            equations=f"{config['geometry_formats']['equations']}/study/equations.csv",
+            fitted=f"{config['geometry_formats']['equations']}/study/runs.parquet",
+            runs=[get_format_runs(n) for n in config["geometry_formats"]["formats"]],
+            own=f"{R}/study/predictor.json",
+            studies=[f["study"] for f in config["geometry_formats"]["formats"].values()],
+            template=get_template("geometry_formats"),
+        output:
+            table=report(f"{R}/studies/geometry_formats.csv", caption=get_caption("geometry_formats"),
+                         category="Further studies"),
+            page=report(f"{R}/report/tables/geometry_formats.html", caption=get_caption("geometry_formats"),
+                        category="Further studies"),
+            caption=get_caption_file("geometry_formats"),
+        params:
+            formats=config["geometry_formats"]["formats"],
+            code=get_code("geometry_formats"),
+        log:
+            f"{R}/logs/study/geometry_formats.log",
+        conda:
+            ENV
+        script:
+            "../scripts/geometry_formats.py"

@@ -196,7 +196,14 @@ FURTHER = config.get("further_studies", {})
 
 
 def get_further_outputs():
-    return [f"{R}/report/studies/{n}.html" for n in FURTHER]
+    return [f"{R}/report/studies/{n}.html" for n in FURTHER] + \
+        ([f"{R}/report/tables/geometry_formats.html"] if config.get("geometry_formats") else [])
+
+
+def get_format_runs(name):
+    """A format's runs (config geometry_formats): its study's folder's, or
+    this workflow's own study's."""
+    return f"{config['geometry_formats']['formats'][name].get('results') or R}/study/runs.parquet"
 
 
 def get_study_outputs():
