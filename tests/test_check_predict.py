@@ -164,3 +164,27 @@ def test_predict_any_inputs_and_terms(tmp_path):
     assert "t 12 mm, f_tj 0.5 MPa, sigma_v 0.2 MPa" in r.stdout
     r = _cli("predict", "--input", "t=12", "--input", "f_tj=0.5 MPa", "--sv", "0.2 MPa", "--study", str(path))
     assert r.returncode == 2 and "--input t" in r.stderr and "did you mean 12 mm?" in r.stderr
+
+
+def test_predict_builds_the_wallette_of_the_brick_it_is_given():
+    """Equations with the brick's size as inputs (the geometry study): the
+    load is that of the wallette of the given brick, its section the wall
+    as built (6 H + 5 t), its thickness W and its shear span 1.1458 (L + t)
+    (config/scenes/geometry.yaml); a scene that gives its section and
+    absolute spans keeps them."""
+    from masonrydem.inputs import read_scene
+    geometry = "config/scenes/geometry.yaml"
+    p = {"inputs": {"L": dict(unit="m", shown="mm", setting="geometry.unit.length"),
+                    "H": dict(unit="m", shown="mm", setting="geometry.unit.height"),
+                    "W": dict(unit="m", shown="mm", setting="geometry.unit.width"),
+                    "t": dict(unit="m", shown="mm", setting="geometry.joint_thickness"),
+                    "f_tj": dict(unit="Pa", shown="MPa", setting="materials.joints.ft")}}
+    x = dict(L=215.0, H=65.0, W=102.5, t=10.0, f_tj=0.3)        # the UK brick
+    for scene, b, a in ((geometry, 6 * 0.065 + 5 * 0.010, 275 / 240 * 0.225), (WILLIS, 0.44, 0.275)):
+        raw = read_scene(scene).get("loading", {}).get("bending", {})
+        p["wallette"] = predict.build({}, pd.DataFrame(), load_scene(scene), "s", {}, {}, {}, raw)["wallette"]
+        w = predict.wallette_at(p, x)
+        assert w["section_height_m"] == pytest.approx(b, rel=1e-12) and w["shear_span_m"] == pytest.approx(a, rel=1e-12)
+        assert w["thickness_m"] == pytest.approx(0.1025) and w["unit_mm"] == pytest.approx([215.0, 65.0, 102.5])
+    # inputs that leave the brick alone leave the wallette as fitted
+    assert predict.wallette_at({"inputs": {"f_tj": p["inputs"]["f_tj"]}, "wallette": p["wallette"]}, x) == p["wallette"]

@@ -33,13 +33,17 @@ OPTIONS = {"f_tu": "--ftu", "f_tj": "--ftj", "sigma_v": "--sv"}
 WILLIS_UNITS = {"f_tu": "Pa", "f_tj": "Pa", "phi_j": "deg", "E_b": "Pa", "sigma_v": "Pa"}
 
 
-def build(fits, ns, scene, source, columns=None, units=None):
+def build(fits, ns, scene, source, columns=None, units=None, settings=None, raw_bending=None):
     """The predictor of the fitted equations ``fits`` (equations.
     prediction_equations: mode -> (equation, strengths)) on the runs
     ``ns``, for the wallette of the typed ``scene``; ``source``: where the
     runs came from (named in the printout); ``columns`` and ``units``: each
     input's column in ``ns`` and its SI unit (Study.columns, Study.units;
-    the Willis study's by default)."""
+    the Willis study's by default); ``settings``: the scene setting each
+    random input drives; ``raw_bending``: the scene file's
+    loading.bending as written (whether its section is the wall as built
+    and its spans in unit lengths: then both follow a brick that the
+    inputs change, ``wallette_at``)."""
     from .equations import COLUMNS
     from .studyfile import parse_term
     columns, units = columns or COLUMNS, units or WILLIS_UNITS
@@ -53,12 +57,38 @@ def build(fits, ns, scene, source, columns=None, units=None):
                            ratio_q025=float(np.quantile(ratio, 0.025)), ratio_q975=float(np.quantile(ratio, 0.975)))
     return dict(
         source=source, scene=scene.name, modes=modes,
-        inputs={name: dict(unit=units[name], shown=shown(units[name])[0], column=columns[name]) for name in used},
+        inputs={name: dict(unit=units[name], shown=shown(units[name])[0], column=columns[name],
+                            **({"setting": settings[name]} if name in (settings or {}) else {})) for name in used},
         fitted_range={name: [float(ns[columns[name]].min()), float(ns[columns[name]].max())] for name in used},
         wallette=dict(courses=g.courses, units_per_course=g.units_per_course,
                       unit_mm=[g.unit_length * 1e3, g.unit_height * 1e3, g.unit_width * 1e3],
                       joint_mm=g.joint_thickness * 1e3, section_height_m=bend.section_height,
-                      thickness_m=g.unit_width, shear_span_m=bend.shear_span))
+                      thickness_m=g.unit_width, shear_span_m=bend.shear_span,
+                      section_as_built=raw_bending is not None and "section_height" not in raw_bending,
+                      spans_in_units=raw_bending is not None and "shear_span_units" in raw_bending))
+
+
+BRICK = ("geometry.unit.length", "geometry.unit.height", "geometry.unit.width", "geometry.joint_thickness")
+
+
+def wallette_at(p, x):
+    """The predictor's wallette with the brick the inputs ``x`` (in the
+    units shown) give, where they drive its size: its thickness is the
+    brick's width, and its section (the wall as built) and shear span (in
+    unit lengths) follow the brick where the scene gave them so."""
+    w = dict(p["wallette"])
+    given = {spec["setting"]: x[name] * shown(spec["unit"])[1] for name, spec in p["inputs"].items()
+             if spec.get("setting") in BRICK}
+    if not given:
+        return w
+    before = [v / 1e3 for v in w["unit_mm"]] + [w["joint_mm"] / 1e3]
+    L, H, W, t = (given.get(k, v) for k, v in zip(BRICK, before))
+    if w.get("section_as_built"):
+        w["section_height_m"] = w["courses"] * H + (w["courses"] - 1) * t
+    if w.get("spans_in_units"):
+        w["shear_span_m"] *= (L + t) / (before[0] + before[3])
+    w.update(unit_mm=[L * 1e3, H * 1e3, W * 1e3], joint_mm=t * 1e3, thickness_m=W, brick_from_inputs=True)
+    return w
 
 
 def _value(eq, x):
@@ -81,7 +111,8 @@ class Prediction:
 
     def lines(self):
         w = self.wallette
-        out = [f"the equations of {self.source}, for the wallette they were fitted on: {_wallette(w)}; section "
+        which = "for this brick's wallette" if w.get("brick_from_inputs") else "for the wallette they were fitted on"
+        out = [f"the equations of {self.source}, {which}: {_wallette(w)}; section "
                f"b = {w['section_height_m']:g} m, thickness h = {w['thickness_m']:g} m, shear span a = "
                f"{w['shear_span_m']:.4g} m (sigma = 6 M / (b h^2), M = P a / 2)",
                "  " + ", ".join(f"{k} {v:g} {self.units[k]}".rstrip() for k, v in self.inputs.items())]
@@ -130,7 +161,7 @@ def predict(study="results/study/predictor.json", options=None, **inputs):
     by_mode = {m: _value(eq, x) for m, eq in p["modes"].items()}
     mode = min(by_mode, key=by_mode.get)
     s, eq = by_mode[mode], p["modes"][mode]
-    w = p["wallette"]
+    w = wallette_at(p, x)
     to_kN = w["section_height_m"] * w["thickness_m"] ** 2 / 6.0 / (0.5 * w["shear_span_m"]) * 1e3  # MPa -> kN
     interval = (s * eq["ratio_q025"], s * eq["ratio_q975"])
     return Prediction(strength_mpa=s, mode=mode, interval_mpa=interval, load_kN=s * to_kN,

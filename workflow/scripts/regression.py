@@ -15,6 +15,7 @@ from masonrydem import equations as E  # noqa: E402
 from masonrydem import figures as F  # noqa: E402
 from masonrydem import predict  # noqa: E402
 from masonrydem import validation as V  # noqa: E402
+from masonrydem.inputs import read_scene  # noqa: E402
 from masonrydem.scene import load_scene  # noqa: E402
 
 reg = sm.params.analysis          # the study file's terms, the inputs' columns, the sweep (plan.analysis)
@@ -30,7 +31,8 @@ pd.DataFrame(rows).merge(intervals, on="mode", how="left").to_csv(sm.output.equa
 F.predicted_vs_simulated(fits, sm.output.predicted)
 scene = load_scene(sm.input.scene)
 with open(sm.output.predictor, "w") as f:       # masonrydem predict
-    json.dump(predict.build(fits, ns, scene, f"the study's {len(ns)} ok non-spatial runs", columns, reg["units"]),
+    json.dump(predict.build(fits, ns, scene, f"the study's {len(ns)} ok non-spatial runs", columns, reg["units"],
+                            sm.params.settings, read_scene(sm.input.scene).get("loading", {}).get("bending", {})),
               f, indent=1)
 print(pd.DataFrame(rows).to_string())
 captions.write_captions(sm.input.templates[:1], sm.output.captions[:1], dict(equations=captions.equations(rows)))
