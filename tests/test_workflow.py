@@ -232,7 +232,7 @@ def test_a_study_that_sweeps_another_setting(tmp_path):
     eq = pd.read_csv(out / "equations.csv")
     assert {"f_tu", "f_tj", "t", "f_tj*t"} <= set(eq.columns)
     predictor = json.loads((out / "predictor.json").read_text())
-    assert predictor["inputs"]["t"] == dict(unit="m", shown="mm", column="t_mm")
+    assert predictor["inputs"]["t"] == dict(unit="m", shown="mm", column="t_mm", setting="geometry.joint_thickness")
     assert predictor["fitted_range"]["t"] == [8.0, 14.0]
     assert "sweeps geometry.joint_thickness" in (out / "design_comparison.csv").read_text()
     assert sorted(pd.read_csv(out / "characteristic.csv").t_mm) == [8.0, 14.0]
