@@ -56,9 +56,9 @@ def test_correlation():
 
 
 def test_reproducible_from_seed():
-    a, s_a, _ = study_samples(10, seed=7)
-    b, s_b, _ = study_samples(10, seed=7)
-    c, _, _ = study_samples(10, seed=8)
+    a, s_a, _ = study_samples(4, seed=7)      # every spatial sample's fields refined: a few suffice
+    b, s_b, _ = study_samples(4, seed=7)
+    c, _, _ = study_samples(4, seed=8)
     assert a.equals(b) and s_a.equals(s_b)
     assert not a.equals(c)
 
