@@ -79,3 +79,13 @@ def test_no_indices_where_the_inputs_do_not_explain_the_strength():
                                         **{f"x{k}": 0.1 for k in range(1, 5)}}), SIGMA_V)
     text = S.caption_values(t, SIGMA_V, UNIFORMS, {})["lines"]
     assert "no indices" in text and "nan" not in text
+
+
+def test_the_figure_draws_an_estimate_outside_its_interval(tmp_path):
+    """A percentile interval need not hold its estimate (a total index near
+    0 whose resamples all lie above it): the figure still draws."""
+    t = pd.DataFrame(dict(variant="v", sigma_v_mpa=[0.0, 0.5], mode="all", runs=100, input="x1", surrogate="linear",
+                          cv_r2=0.9, S1=[0.001, 0.5], S1_lo=[0.002, 0.4], S1_hi=[0.01, 0.6], ST=[0.001, 0.5],
+                          ST_lo=[0.002, 0.4], ST_hi=[0.01, 0.6], pearson_sq=[0.0, 0.4]))
+    S.figure(t, tmp_path / "s.png", SIGMA_V)
+    assert (tmp_path / "s.png").stat().st_size > 0

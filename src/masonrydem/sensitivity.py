@@ -171,8 +171,9 @@ def figure(table, path, level):
         for k, (name, h) in enumerate(g.groupby("input", sort=False)):
             color = f"C{k}"
             x = h[level.column]
-            ax.errorbar(x, h.ST, yerr=[h.ST - h.ST_lo, h.ST_hi - h.ST], fmt="o-", color=color, capsize=3,
-                        label=f"{name}: ST")
+            # a percentile interval need not hold its estimate (an index near 0): bars from the estimate, clipped
+            bars = np.clip([h.ST - h.ST_lo, h.ST_hi - h.ST], 0, None)
+            ax.errorbar(x, h.ST, yerr=bars, fmt="o-", color=color, capsize=3, label=f"{name}: ST")
             ax.plot(x, h.S1, "s:", color=color, ms=4, label=f"{name}: S1")
             ax.plot(x, h.pearson_sq, "--", color=color, lw=0.8, alpha=0.7, label=f"{name}: r^2")
         ax.set_title(f"{', '.join(sorted(g.variant.unique()))}, {mode}")
