@@ -166,12 +166,6 @@ def analysis(config):
                 level_unit=shown(st.units[st.sweep_name])[0], means=st.means(), units=dict(st.units))
 
 
-def study_settings(config):
-    """Input -> the scene setting it drives: the study's variables and its sweep."""
-    st = study(config)
-    return {**{v.name: v.setting for v in st.variables}, st.sweep_name: st.sweep_setting}
-
-
 def study_variants(config):
     return list(study(config).variants)
 

@@ -50,7 +50,7 @@ rule regression:
         code=get_code("regression"),
         bootstrap=config["study"]["bootstrap"],
         analysis=plan.analysis(config),
-        settings=plan.study_settings(config),     # for predict: the inputs that change the brick
+        settings=get_study_settings(),     # for predict: the inputs that change the brick
     log:
         f"{R}/logs/study/regression.log",
     threads: 2      # the bootstrap's refits on two processes (equations.equation_intervals)

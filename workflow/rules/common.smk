@@ -164,6 +164,13 @@ def get_study_design():
                 rules=s.rules, scene=s.scene)
 
 
+def get_study_settings():
+    """Input -> the scene setting it drives: the study's variables and its
+    sweep (for predict: the inputs that change the brick)."""
+    s = plan.study(config)
+    return {**{v.name: v.setting for v in s.variables}, s.sweep_name: s.sweep_setting}
+
+
 def get_study_sets(wildcards):
     """A study simulation: the numerics and its level of the swept setting
     (the sample's settings come from the samples file: --samples)."""
