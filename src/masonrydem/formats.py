@@ -37,10 +37,9 @@ def format_geometry(study_file):
 
 
 def predictor_equations(predictor):
-    """(joint, brick) equations of a predictor file's content; with one
-    mode fitted, it stands for both."""
-    eqs = {m: dict(intercept=e["intercept"], coef=e["coef"]) for m, e in predictor["modes"].items()}
-    return eqs.get("joint", eqs.get("brick")), eqs.get("brick", eqs.get("joint"))
+    """(joint, brick) equations of a predictor file's content
+    (equations.joint_and_brick: with one mode fitted, it stands for both)."""
+    return E.joint_and_brick({m: (e, None) for m, e in predictor["modes"].items()})
 
 
 def _inputs(runs, predictor, geometry):
