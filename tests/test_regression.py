@@ -55,6 +55,31 @@ def test_lasso_against_least_squares_within_its_optimality_bound():
     assert b0 == pytest.approx(plain.intercept_, abs=1e-6)
 
 
+
+@pytest.mark.parametrize("law", ["joint", "brick", "noise"])
+def test_the_penalty_and_coefficients_are_lasso_cvs(law):
+    """The exact path (equations._lasso) makes scikit-learn LassoCV's
+    choice, an independent method (coordinate descent, to a duality gap of
+    1e-12, on the same folds of whole samples): the same penalty, and
+    coefficients within 1e-7 of the largest; on pure noise, with the same
+    penalty, no term at all or the same ones."""
+    from sklearn.linear_model import LassoCV
+    from sklearn.model_selection import GroupKFold
+    from sklearn.pipeline import make_pipeline
+    from sklearn.preprocessing import StandardScaler
+    f_tu, f_tj, sv, sample = _samples(7, 40)
+    noise = np.random.default_rng(8).normal(0, 0.05, sv.size)
+    y = {"joint": 0.2 + 3.0 * f_tj + 1.1 * sv + noise, "brick": 0.3 + 0.4 * f_tu - 0.01 * f_tu ** 2 + noise,
+         "noise": 1.0 + noise}[law]
+    X = E.features(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv))
+    cv = list(GroupKFold(5).split(X, y, sample))
+    ref = make_pipeline(StandardScaler(), LassoCV(cv=cv, max_iter=10_000_000, tol=1e-12)).fit(X, y)[1]
+    fit = E._lasso(X, y, sample)
+    assert fit.alpha == pytest.approx(ref.alpha_, rel=1e-12)
+    np.testing.assert_allclose(fit.coef, ref.coef_, rtol=0, atol=1e-7 * max(np.abs(ref.coef_).max(), 1e-12))
+    assert fit.intercept == pytest.approx(ref.intercept_, abs=1e-7)
+    assert set(np.flatnonzero(fit.coef)) == set(np.flatnonzero(ref.coef_))
+
 def _runs(joint_law, brick_law, n_joint, n_brick, seed=5):
     """Non-spatial ok runs: samples 0..n_joint-1 fail in the joints at
     every level, the next n_brick in the bricks, each by its exact law."""

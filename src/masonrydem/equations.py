@@ -12,11 +12,13 @@ a runs table by the study's columns (Study.columns).  An equation is a
 dict with its intercept and coef (term -> coefficient, in the order of the
 terms): it carries its own terms.
 """
+from typing import NamedTuple
+
 import numpy as np
 import pandas as pd
-from sklearn.linear_model import LassoCV
+from sklearn import config_context
+from sklearn.linear_model import lars_path
 from sklearn.model_selection import GroupKFold
-from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
 from .studyfile import evaluate_term
@@ -42,21 +44,63 @@ def features(inputs, terms=FEATURES):
     return np.column_stack(np.broadcast_arrays(*columns))
 
 
-def _lasso(X, y, groups):
+class LassoFit(NamedTuple):
+    """A Lasso on standardised features: the scaler, the coefficients of
+    the standardised features, the intercept, the penalty."""
+    scaler: StandardScaler
+    coef: np.ndarray
+    intercept: float
+    alpha: float
+
+    def predict(self, X):
+        return self.scaler.transform(X) @ self.coef + self.intercept
+
+
+def _path(Z, y, alphas):
+    """The Lasso's exact coefficients at ``alphas``, intercept free: the
+    LARS-Lasso path of the centred data (scikit-learn lars_path; Efron et
+    al. 2004), linear in alpha between its breakpoints.  Returns (coefs
+    (p, len(alphas)), intercepts)."""
+    zm, ym = Z.mean(axis=0), y.mean()
+    with config_context(skip_parameter_validation=True):        # 3 ms a call, most of the path's time
+        knots, _, path = lars_path(Z - zm, y - ym, method="lasso")
+    # a variable that leaves the active set keeps round-off at its knot
+    # (-8.7e-19 on the study's brick runs): zero there, as on its segment
+    path[np.abs(path) < 1e-13 * np.abs(path).max(initial=0.0)] = 0.0
+    coefs = np.array([np.interp(alphas, knots[::-1], row[::-1]) for row in path])
+    return coefs, ym - zm @ coefs
+
+
+def _lasso(X, y, groups, n_alphas=100, eps=1e-3):
     """Standardised features, Lasso with the penalty chosen by 5-fold
-    cross-validation on the MSE, folds made of whole groups.  Coordinate
-    descent to a duality gap of 1e-10 (scikit-learn's default, 1e-4, left
-    the study's coefficients up to 8 % from the optimum at the chosen
-    penalty, f_tu and f_tu^2 being nearly collinear: tests/test_regression.py
-    checks the optimality conditions)."""
-    cv = list(GroupKFold(5).split(X, y, groups))
-    return make_pipeline(StandardScaler(), LassoCV(cv=cv, max_iter=1_000_000, tol=1e-10)).fit(X, y)
+    cross-validation on the MSE, folds made of whole groups: scikit-learn
+    LassoCV's choice (its grid of ``n_alphas`` penalties from the largest
+    useful one down to ``eps`` times it, the MSE averaged over the folds,
+    the first smallest), each fit being the exact solution on the LARS
+    path rather than coordinate descent.  Coordinate descent needed a
+    duality gap of 1e-10 (scikit-learn's default, 1e-4, left the study's
+    coefficients up to 8 % from the optimum, f_tu and f_tu^2 being nearly
+    collinear) and took about 0.5 s a fit; the path, a few milliseconds
+    (tests/test_regression.py: the optimality conditions, and LassoCV's
+    choice)."""
+    scaler = StandardScaler().fit(X)
+    Z = scaler.transform(X)
+    yc = y - y.mean()
+    top = np.max(np.abs(Z.T @ yc - Z.mean(axis=0) * np.sum(yc))) / len(y)
+    alphas = np.geomspace(top, top * eps, num=n_alphas)
+    mse = []
+    for train, test in GroupKFold(5).split(X, y, groups):
+        coefs, b0 = _path(Z[train], y[train], alphas)
+        mse.append(np.mean((Z[test] @ coefs + b0 - y[test][:, None]) ** 2, axis=0))
+    best = int(np.argmin(np.mean(mse, axis=0)))
+    coef, b0 = _path(Z, y, alphas[best:best + 1])
+    return LassoFit(scaler, coef[:, 0], float(b0[0]), float(alphas[best]))
 
 
 def fit_equation(inputs, strength, groups, terms=FEATURES, nested=True):
     """Lasso regression of the strength (MPa) on the ``terms`` of the
     ``inputs``, the penalty chosen by 5-fold cross-validation on the mean
-    squared error (scikit-learn LassoCV, features standardised).
+    squared error (LassoCV's choice, features standardised: ``_lasso``).
     ``groups``: the sample of each run; folds hold whole samples, because
     one sample's runs at the other levels share its properties and would
     let a fold see the wallette it is tested on.  At least MIN_GROUPS
@@ -75,14 +119,13 @@ def fit_equation(inputs, strength, groups, terms=FEATURES, nested=True):
     if np.unique(groups).size < MIN_GROUPS:
         raise ValueError(f"{np.unique(groups).size} samples: nested 5-fold CV needs at least {MIN_GROUPS}")
     fit = _lasso(X, y, groups)
-    scaler, lasso = fit[0], fit[1]
-    coef = lasso.coef_ / scaler.scale_
-    intercept = float(lasso.intercept_ - np.sum(coef * scaler.mean_))
+    coef = fit.coef / fit.scaler.scale_
+    intercept = float(fit.intercept - np.sum(coef * fit.scaler.mean_))
     fitted = fit.predict(X)
     oof = np.full_like(y, np.nan)
     for train, test in GroupKFold(5).split(X, y, groups) if nested else ():
         oof[test] = _lasso(X[train], y[train], groups[train]).predict(X[test])
-    return dict(intercept=intercept, coef=dict(zip(terms, (coef + 0.0).tolist())), alpha=float(lasso.alpha_),
+    return dict(intercept=intercept, coef=dict(zip(terms, (coef + 0.0).tolist())), alpha=fit.alpha,
                 mape=mape(y, fitted), fitted=fitted, cv_mape=mape(y, oof), cv_predicted=oof, n=int(y.size))
 
 
@@ -176,13 +219,13 @@ def equation_intervals(ns, resamples, seed, progress=None, terms=FEATURES, colum
     ``jobs``.  Returns a frame with the column mode and <term>_lo, <term>_hi."""
     from .analysis import bootstrap_interval
     samples = np.sort(ns["sample"].unique())
-    by_sample = [ns[ns["sample"] == s] for s in samples]
+    by_sample = [np.flatnonzero(ns["sample"].to_numpy() == s) for s in samples]     # row positions
     names = equation_terms(terms)
 
     def statistic(idx):
         blocks = [idx[k:k + block] for k in range(0, len(idx), block)]
         out, done = [], 0
-        for part in _map_blocks(_refit_block, blocks, jobs, by_sample, terms, columns, names):
+        for part in _map_blocks(_refit_block, blocks, jobs, ns, by_sample, terms, columns, names):
             out.extend(part)
             done += len(part)
             if progress:
@@ -195,11 +238,12 @@ def equation_intervals(ns, resamples, seed, progress=None, terms=FEATURES, colum
     return pd.DataFrame(rows + [dict(mode="lower of two", mape_pct_lo=lo[-1], mape_pct_hi=hi[-1])])
 
 
-def _refit_block(block, by_sample, terms, columns, names):
+def _refit_block(block, ns, by_sample, terms, columns, names):
     """The statistics of equation_intervals for each resample of a block."""
     out = []
     for idx in block:
-        _, rows, _ = prediction_equations(pd.concat([by_sample[i] for i in idx]), terms, columns, nested=False)
+        resample = ns.iloc[np.concatenate([by_sample[i] for i in idx])]
+        _, rows, _ = prediction_equations(resample, terms, columns, nested=False)
         rows = {r["mode"]: r for r in rows}
         out.append([rows.get(m, {}).get(t, np.nan) for m in ("joint", "brick") for t in names] +
                    [rows.get("lower of two", {}).get("mape_pct", np.nan)])
