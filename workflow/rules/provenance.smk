@@ -64,13 +64,19 @@ def _package_imports(text, inside):
 
 
 @functools.cache
+def _module_imports(name):
+    """The package's modules that a package module imports (each parsed once)."""
+    return frozenset(_package_imports((Path(masonrydem.__file__).parent / name).read_text(), True))
+
+
+@functools.cache
 def _modules_used(name):
     """A package module and every package module it imports, transitively."""
     found, todo = set(), {name}
     while todo:
         n = todo.pop()
         found.add(n)
-        todo |= _package_imports((Path(masonrydem.__file__).parent / n).read_text(), True) - found
+        todo |= _module_imports(n) - found
     return frozenset(found)
 
 
