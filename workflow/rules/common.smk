@@ -74,7 +74,6 @@ def run_study_job(input, params, wildcards, threads, log):
 masonrydem.cli.interrupt_jobs_on_sigint()
 
 
-
 def stop_rate_limiter_timers():
     """Once the workflow has ended: cancel the timers of Snakemake's job
     rate limiter (profiles/default).  Every scheduling round arms one,
@@ -89,6 +88,7 @@ def stop_rate_limiter_timers():
         if isinstance(timer, threading.Timer) and \
                 "_schedule_reevalutation" in getattr(timer.function, "__qualname__", ""):
             timer.cancel()
+
 
 def get_job_sets(overrides):
     """Scene overrides as the --set options of the command line."""
