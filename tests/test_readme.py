@@ -65,3 +65,38 @@ def test_the_readme_names_its_commands():
     """The commands above are found (a README rewritten without them would
     make those tests vacuous)."""
     assert len(SNAKEMAKE) >= 6 and _commands("masonrydem")
+
+
+def _setting(label):
+    """The accuracy study's setting of a README row: 'the defaults' is the
+    row 'default'; else the unit model, cells and refinement make its name
+    (potential-crack 4x3x2 head joints: pc_c4x3x2_head; none: _r1; "at
+    twice the rate": _rate2; elasto-plastic 9x4x3, none: ep_c9x4x3)."""
+    if "**the defaults**" in label:
+        return "default"
+    model, cells, refined = (x.strip() for x in label.split("(")[0].split(",")[:3])
+    if model == "elasto-plastic":
+        return f"ep_c{cells}"
+    rate = "_rate2" if "twice the rate" in label.split("(")[0] else ""
+    return f"pc_c{cells}_" + ("head" if refined == "head joints" else "r1") + rate
+
+
+def test_the_accuracy_table_is_the_committed_study():
+    """The README's "What accuracy costs" table states what
+    results/accuracy/runs.csv holds: per row the largest error of P_max
+    (by its size, with its sign, in %) in each mode's cases, and the mean
+    run time over the five cases (a decimal below 10 s).  A rerun of the accuracy study that is
+    not carried into the README fails here."""
+    section = README[README.index("## What accuracy costs"):]
+    rows = [r.strip("|").split("|") for r in section.split("\n\n")[2].splitlines()[2:]]
+    runs = pd.read_csv(ROOT / "results/accuracy/runs.csv")
+    assert rows
+    for label, *errors, time in rows:
+        g = runs[runs.setting == _setting(label)].set_index("case")
+        assert len(g) == 5, label
+        for mode, shown in zip(("joint", "brick", "mixed"), errors):
+            e = 100 * g[g.index.str.startswith(mode)].error
+            largest = e[e.abs().idxmax()]
+            assert shown.strip() == f"{largest:+.1f} %", (label, mode, largest)
+        t = g.wall_time_s.mean()
+        assert time.strip() == (f"{t:.1f} s" if t < 10 else f"{t:.0f} s"), (label, t)
