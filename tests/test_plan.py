@@ -168,16 +168,18 @@ def test_the_config_overrides_the_study_files_samples_seed_and_levels():
 
 
 def test_the_projects_config_plans_its_accuracy_study():
-    """config/config.yaml: per case the 8 path levels, 13 candidates, the
-    defaults, 9 one-at-a-time values (plus two ratio_tol values under
+    """config/config.yaml: per case the 8 path levels, 15 candidates, the
+    defaults, 11 one-at-a-time values (plus two ratio_tol values under
     precompression) and the 17x8x6 path level at half the paths'
-    rate: 32 + 34 + 32 + 34 + 34 = 166 runs; the path levels run the
+    rate: 36 + 38 + 36 + 38 + 38 = 186 runs; the path levels run the
     elasto-plastic model at the paths' rate (2.5e-8 m per step, their
     overrides), the brick cases' at half of it (their path_overrides)."""
     from masonrydem.scene import load_scene
     config = yaml.safe_load(open("config/config.yaml"))
     runs = plan.accuracy_runs(config)
-    assert len(runs) == 166 and len(set(runs)) == 166
+    assert len(runs) == 186 and len(set(runs)) == 186
+    knee = load_scene(config["scene"], plan.accuracy_overrides(config, "mixed_sv05", "pc_c4x3x2_head_d04_rate3"))
+    assert knee.numerics.damping == 0.4 and knee.loading.drive.rate == 1.125e-7
     assert {s for c, s in runs if c == "joint_sv0"} >= {"path_c17x8x6", "pc_c6x3x2_r121", "default", "rate_7.5e-08"}
     assert ("joint_sv05", "ratio_tol_1e-05") in runs and ("joint_sv0", "ratio_tol_1e-05") not in runs
     joint = load_scene(config["scene"], plan.accuracy_overrides(config, "joint_sv0", "path_c17x8x6"))

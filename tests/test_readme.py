@@ -70,15 +70,18 @@ def test_the_readme_names_its_commands():
 def _setting(label):
     """The accuracy study's setting of a README row: 'the defaults' is the
     row 'default'; else the unit model, cells and refinement make its name
-    (potential-crack 4x3x2 head joints: pc_c4x3x2_head; none: _r1; "at
-    twice the rate": _rate2; elasto-plastic 9x4x3, none: ep_c9x4x3)."""
+    (potential-crack 4x3x2 head joints: pc_c4x3x2_head; none: _r1;
+    "damping 0.4": _d04; "at twice the rate": _rate2, "at three times the
+    rate": _rate3; elasto-plastic 9x4x3, none: ep_c9x4x3)."""
     if "**the defaults**" in label:
         return "default"
-    model, cells, refined = (x.strip() for x in label.split("(")[0].split(",")[:3])
+    head = label.split("(")[0]
+    model, cells, refined = (x.strip() for x in head.split(",")[:3])
     if model == "elasto-plastic":
         return f"ep_c{cells}"
-    rate = "_rate2" if "twice the rate" in label.split("(")[0] else ""
-    return f"pc_c{cells}_" + ("head" if refined == "head joints" else "r1") + rate
+    damping = "_d04" if "damping 0.4" in head else ""
+    rate = "_rate2" if "twice the rate" in head else "_rate3" if "three times the rate" in head else ""
+    return f"pc_c{cells}_" + ("head" if refined == "head joints" else "r1") + damping + rate
 
 
 def test_the_accuracy_table_is_the_committed_study():
