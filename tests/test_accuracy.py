@@ -125,3 +125,18 @@ def test_the_source_hash_ignores_documentation_only():
     assert source_code("s.yaml", "a: {description: one text, type: number, default: 2.0}\n"
                                  "description: {type: string}\n") != y
     assert len(masonrydem.source_hash()) == 12
+
+
+def test_references_are_read_only_when_todays_solver_reproduces_them():
+    """The summary reads the references' table (results/accuracy/references.csv)
+    only after the coarsest path level, rerun now, gives the table's P_max to
+    its printed digits in the same steps; anything else (another P_max, other
+    steps, a run the table lacks) is refused with the command that remakes it."""
+    import pandas as pd
+    from masonrydem.accuracy import check_references
+    table = pd.DataFrame([dict(case="joint_sv0", setting="path_c7x3x2", P_max_kN=12.5737, steps=33000)])
+    same = dict(case="joint_sv0", setting="path_c7x3x2", P_max_kN=12.573731237951991, steps=33000)
+    check_references(table, [same])
+    for other in (dict(same, P_max_kN=12.57385), dict(same, steps=33500), dict(same, case="brick_sv0")):
+        with pytest.raises(ValueError, match="forcerun accuracy_references"):
+            check_references(table, [other])

@@ -41,11 +41,11 @@ def test_check_estimates_time_from_the_counts_and_the_drive():
     assert per_step == pytest.approx(size["sub_contacts"] * 15e-9 + size["cells"] * 37e-9 + size["nodes"] * 9e-9)
     d = scene.loading.drive
     drive, pre = check.step_bound(scene)
-    # the Willis scene: a 1 mm limit at 3.75e-8 m a step after a ramp of 1000 steps
-    assert (d.max_displacement, d.rate, d.ramp_steps) == (1e-3, 3.75e-8, 1000)
-    assert drive == 1000 + 26667 and pre == 0
+    # the Willis scene: a 1 mm limit at 7.5e-8 m a step after a ramp of 1000 steps
+    assert (d.max_displacement, d.rate, d.ramp_steps) == (1e-3, 7.5e-8, 1000)
+    assert drive == 1000 + 13334 and pre == 0
     longer = load_scene(WILLIS, ["loading.bending.max_displacement=2 mm", "loading.precompression.pressure=0.1 MPa"])
-    assert check.step_bound(longer) == (1000 + 53334, longer.loading.precompression.max_steps)
+    assert check.step_bound(longer) == (1000 + 26667, longer.loading.precompression.max_steps)
 
 
 def test_check_refuses_a_bad_scene_with_exit_2():

@@ -168,19 +168,31 @@ def test_the_config_overrides_the_study_files_samples_seed_and_levels():
 
 
 def test_the_projects_config_plans_its_accuracy_study():
-    """config/config.yaml: per case the 8 path levels, 15 candidates, the
+    """config/config.yaml: per case the 8 path levels, 14 candidates, the
     defaults, 11 one-at-a-time values (plus two ratio_tol values under
     precompression) and the 17x8x6 path level at half the paths'
-    rate: 36 + 38 + 36 + 38 + 38 = 186 runs; the path levels run the
+    rate: 35 + 37 + 35 + 37 + 37 = 181 runs; the path levels run the
     elasto-plastic model at the paths' rate (2.5e-8 m per step, their
-    overrides), the brick cases' at half of it (their path_overrides)."""
+    overrides), the brick cases' at half of it (their path_overrides), with
+    the damping pinned (0.8): the references (the path levels and the runs
+    around one, 45) are the same computation whatever the defaults, and
+    the coarsest level of each case is rerun to check their table."""
     from masonrydem.scene import load_scene
     config = yaml.safe_load(open("config/config.yaml"))
     runs = plan.accuracy_runs(config)
-    assert len(runs) == 186 and len(set(runs)) == 186
-    knee = load_scene(config["scene"], plan.accuracy_overrides(config, "mixed_sv05", "pc_c4x3x2_head_d04_rate3"))
+    assert len(runs) == 181 and len(set(runs)) == 181
+    knee = load_scene(config["scene"], plan.accuracy_overrides(config, "mixed_sv05", "pc_c4x3x2_head_rate15"))
     assert knee.numerics.damping == 0.4 and knee.loading.drive.rate == 1.125e-7
-    assert {s for c, s in runs if c == "joint_sv0"} >= {"path_c17x8x6", "pc_c6x3x2_r121", "default", "rate_7.5e-08"}
+    former = load_scene(config["scene"], plan.accuracy_overrides(config, "mixed_sv05", "pc_c4x3x2_head_d08_half"))
+    assert former.numerics.damping == 0.8 and former.loading.drive.rate == 3.75e-8
+    from masonrydem.accuracy import reference_checks, reference_runs
+    references = reference_runs(config)
+    assert len(references) == 45 and set(references) <= set(runs)
+    assert all(s.startswith("path_") for c, s in references)
+    assert reference_checks(config) == [(c, "path_c7x3x2") for c in plan.accuracy_cases(config)]
+    for case, setting in references:
+        assert load_scene(config["scene"], plan.accuracy_overrides(config, case, setting)).numerics.damping == 0.8
+    assert {s for c, s in runs if c == "joint_sv0"} >= {"path_c17x8x6", "pc_c6x3x2_r121", "default", "rate_1.5e-07"}
     assert ("joint_sv05", "ratio_tol_1e-05") in runs and ("joint_sv0", "ratio_tol_1e-05") not in runs
     joint = load_scene(config["scene"], plan.accuracy_overrides(config, "joint_sv0", "path_c17x8x6"))
     assert joint.loading.drive.rate == 2.5e-8 and joint.physics.blocks == "elasto-plastic"

@@ -62,13 +62,19 @@ def test_a_crack_interface_carries_f_tu_A_and_dissipates_G_f_A():
     2E A = 112.5 A J, is below G_f A, so nothing snaps back and the load's
     work is the fracture energy (the run ends when the load is 0.1 % of its
     peak).  The peak lags the closed form by the loading rate, to first
-    order: measured +5.6e-4 at the scene's 2e-9 m per step, +2.8e-4 at
-    1e-9, +1.4e-4 at 5e-10 (allowed 1e-3, and the halving within 5 %); the
-    work is within 1.0e-5 and 4.7e-6 of G_f A (allowed 1e-4)."""
+    order under local damping 0.8 (overdamped): measured +5.6e-4 at the
+    scene's 2e-9 m per step, +2.8e-4 at 1e-9, +1.4e-4 at 5e-10 (allowed
+    1e-3, and the halving within 5 %); the work is within 1.0e-5 and 4.7e-6
+    of G_f A (allowed 1e-4).  At the default damping, 0.4, the lag is half
+    (+2.8e-4 at 2e-9) and no longer first order (+9.7e-5 at 1e-9, +6.5e-5 at
+    5e-10: a ringing of that size remains), so the order is checked at 0.8
+    and the closed form at both."""
     A = 0.114 * 0.075
     err = []
-    for rate in (2.0e-9, 1.0e-9):
-        out = simulate(_single_unit("materials.units.Gf=1000.0", f"loading.tension.rate={rate}"), progress=False)
+    for rate, damping in ((2.0e-9, 0.8), (1.0e-9, 0.8), (2.0e-9, None)):
+        extra = [f"numerics.damping={damping}"] if damping else []
+        out = simulate(_single_unit("materials.units.Gf=1000.0", f"loading.tension.rate={rate}", *extra),
+                       progress=False)
         assert out.status == "load_drop", out.message
         h = out.test.record.history
         P, u = h.force_of("load"), h.disp_of("load")

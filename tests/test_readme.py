@@ -71,16 +71,16 @@ def _setting(label):
     """The accuracy study's setting of a README row: 'the defaults' is the
     row 'default'; else the unit model, cells and refinement make its name
     (potential-crack 4x3x2 head joints: pc_c4x3x2_head; none: _r1;
-    "damping 0.4": _d04; "at twice the rate": _rate2, "at three times the
-    rate": _rate3; elasto-plastic 9x4x3, none: ep_c9x4x3)."""
+    "damping 0.8": _d08; "at half the rate": _half, "at 1.5 times the
+    rate": _rate15; elasto-plastic 9x4x3, none: ep_c9x4x3)."""
     if "**the defaults**" in label:
         return "default"
     head = label.split("(")[0]
     model, cells, refined = (x.strip() for x in head.split(",")[:3])
     if model == "elasto-plastic":
         return f"ep_c{cells}"
-    damping = "_d04" if "damping 0.4" in head else ""
-    rate = "_rate2" if "twice the rate" in head else "_rate3" if "three times the rate" in head else ""
+    damping = "_d08" if "damping 0.8" in head else ""
+    rate = "_half" if "half the rate" in head else "_rate15" if "1.5 times the rate" in head else ""
     return f"pc_c{cells}_" + ("head" if refined == "head joints" else "r1") + damping + rate
 
 

@@ -357,17 +357,19 @@ def test_a_solver_change_reruns_every_simulation(smoke, tmp_path):
     32 study runs and the runs of every other stage, as many as the plan
     names (masonrydem.plan)."""
     from masonrydem import plan
+    from masonrydem.accuracy import reference_checks
     smoke_config = yaml.safe_load(open("config/smoke.yaml"))
     planned = _planned(smoke, env=_package_copy(tmp_path, "laws.py", "_CHANGED = 1"),
                        targets=["all", "accuracy", "modelform"])
     assert planned.get("simulate") == 32 and planned.get("validation_run") == 1, planned
     assert planned.get("hard_case_run") == 2 and planned.get("specimen_run") == 2, planned
     assert planned.get("accuracy_run") == len(plan.accuracy_runs(smoke_config)), planned
+    assert planned.get("accuracy_check_run") == len(reference_checks(smoke_config)), planned
     assert planned.get("modelform_run") == len(plan.modelform_runs(smoke_config)) == 2, planned
 
 
-PER_RUN_RULES = {"simulate", "simulate_fine", "accuracy_run", "accuracy_scaling_run", "modelform_run",
-                 "hard_case_run", "reduced_run", "specimen_run", "validation_run", "sample"}
+PER_RUN_RULES = {"simulate", "simulate_fine", "accuracy_run", "accuracy_check_run", "accuracy_scaling_run",
+                 "modelform_run", "hard_case_run", "reduced_run", "specimen_run", "validation_run", "sample"}
 
 
 def test_an_analysis_change_reruns_the_analysis_and_no_simulation(smoke, tmp_path):

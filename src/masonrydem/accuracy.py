@@ -8,6 +8,8 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import brentq
 
+from . import plan
+
 ANALYSIS_ONLY = True     # not in the solver's source hash (masonrydem.simulation_sources)
 
 
@@ -200,3 +202,50 @@ def choose(table, conv, tolerance):
     choice = pd.concat([choice, default], ignore_index=True).sort_values("total_time_s", kind="stable")
     choice["default"] = choice.setting == "default"
     return choice
+
+
+# a run's row in runs.csv and references.csv
+RUN_COLUMNS = ["P_max_kN", "failure_mode", "ok", "status", "steps", "wall_time_s", "blocks", "cells",
+               "subcontact_refine", "tets", "subcontacts", "units"]
+# the table's values: written to 17 digits since it holds them; the first
+# table (2026-11-27) came from runs.csv, written to 6
+CHECK_DIGITS = 6
+
+
+def check_references(table, fresh):
+    """Raise ValueError unless every ``fresh`` row (a path level rerun now:
+    case, setting, P_max_kN, steps) equals its row of the references'
+    ``table`` to the table's digits, with the same steps: the references
+    were made by a solver that computes what today's does."""
+    for row in fresh:
+        ref = table[(table.case == row["case"]) & (table.setting == row["setting"])]
+        if ref.empty:
+            raise ValueError(f"results/accuracy/references.csv has no row {row['case']}/{row['setting']}: "
+                             "rerun the references (snakemake --cores 2 --forcerun accuracy_references accuracy)")
+        p, steps = float(ref.P_max_kN.iloc[0]), int(ref.steps.iloc[0])
+        if f"{p:.{CHECK_DIGITS}g}" != f"{row['P_max_kN']:.{CHECK_DIGITS}g}" or steps != int(row["steps"]):
+            raise ValueError(f"the references are not today's solver's: {row['case']}/{row['setting']} gives "
+                             f"P_max {row['P_max_kN']!r} kN in {row['steps']} steps, the table {p!r} kN in {steps}; "
+                             "rerun them (snakemake --cores 2 --forcerun accuracy_references accuracy)")
+
+
+def reference_runs(config):
+    """(case, setting) of the runs that make the references: the path levels
+    and the settings varied around one.  Their results are kept in a table
+    of their own (rule accuracy_references, hours of runs), which the
+    summary reads instead of rerunning them whenever the defaults move; the
+    path's overrides pin the numerics the defaults set (damping)."""
+    acc = config.get("accuracy")
+    if not acc:
+        return []
+    path = set(plan.path_settings(config))
+    around = {f"{s['name']}_{v}" for s in acc["settings"] if s.get("around") in path for v in s["values"]}
+    return [(c, s) for c, s in plan.accuracy_runs(config) if s in path or s in around]
+
+
+def reference_checks(config):
+    """(case, setting) of the coarsest path level of every case: rerun with
+    each summary and compared with the references' table, so a table made
+    by another solver is refused, not read."""
+    first = plan.path_settings(config)[:1]
+    return [(c, s) for c, s in plan.accuracy_runs(config) if s in first]

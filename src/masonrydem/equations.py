@@ -79,7 +79,7 @@ def _lasso(X, y, groups, n_alphas=100, eps=1e-3):
     the first smallest), each fit being the exact solution on the LARS
     path rather than coordinate descent.  Coordinate descent needed a
     duality gap of 1e-10 (scikit-learn's default, 1e-4, left the study's
-    coefficients up to 8 % from the optimum, f_tu and f_tu^2 being nearly
+    coefficients up to about 9 % from the optimum, f_tu and f_tu^2 being nearly
     collinear) and took about 0.5 s a fit; the path, a few milliseconds
     (tests/test_regression.py: the optimality conditions, and LassoCV's
     choice)."""

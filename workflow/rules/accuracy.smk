@@ -37,6 +37,16 @@ use rule accuracy_run as accuracy_scaling_run with:
         f"{R}/logs/accuracy/scaling_courses{{courses}}.log",
 
 
+# the coarsest path level again, apart from the references' own runs: the
+# summary's check of the references' table (their runs are not needed for it)
+use rule accuracy_run as accuracy_check_run with:
+    output:
+        result=f"{R}/accuracy/checks/{{case}}/{{setting}}/result.parquet",
+        curve=f"{R}/accuracy/checks/{{case}}/{{setting}}/curve.parquet",
+    log:
+        f"{R}/logs/accuracy/check_{{case}}_{{setting}}.log",
+
+
 use rule simulate as simulate_fine with:
     output:
         result=f"{R}/accuracy/subsample/{{variant}}/sv{{sv}}/s{{sample}}/result.json",
@@ -51,10 +61,32 @@ use rule simulate as simulate_fine with:
         f"{R}/logs/accuracy/subsample_{{variant}}_sv{{sv}}_s{{sample}}.log",
 
 
+rule accuracy_references:
+    """The references (the refinement paths, hours of runs) in a table of
+    their own, which the summary reads: moving the defaults reruns the
+    defaults' runs, not these (snakemake --forcerun accuracy_references)."""
+    input:
+        results=get_accuracy_results(reference_runs(config)),
+    output:
+        table=f"{R}/accuracy/references.csv",
+    params:
+        code=get_code("accuracy_references"),
+        simulations=get_runs(get_accuracy_sets, [dict(case=c, setting=s) for c, s in reference_runs(config)]),
+        runs=reference_runs(config),
+    log:
+        f"{R}/logs/accuracy/references.log",
+    conda:
+        ENV
+    script:
+        "../scripts/accuracy_references.py"
+
+
 rule accuracy_summary:
     """Errors against the converged reference, the Pareto fronts, the knee."""
     input:
-        results=get_accuracy_results(),
+        results=get_accuracy_results(get_summary_runs()),
+        checks=[f"{R}/accuracy/checks/{case}/{setting}/result.parquet" for case, setting in reference_checks(config)],
+        references=f"{R}/accuracy/references.csv",
         templates=[get_template("accuracy_convergence"), get_template("accuracy_choice")],
     output:
         runs=report(f"{R}/accuracy/runs.csv", caption="../report/accuracy_runs.rst", category="Accuracy"),
@@ -64,8 +96,12 @@ rule accuracy_summary:
         captions=[get_caption_file("accuracy_convergence"), get_caption_file("accuracy_choice")],
     params:
         code=get_code("accuracy_summary"),
-        simulations=get_runs(get_accuracy_sets, [dict(case=c, setting=s) for c, s in plan.accuracy_runs(config)]),
-        runs=plan.accuracy_runs(config),
+        simulations=get_runs(get_accuracy_sets, [dict(case=c, setting=s) for c, s in
+                                                 get_summary_runs() + reference_checks(config)]),
+        runs=get_summary_runs(),
+        checks=reference_checks(config),
+        references=reference_runs(config),
+        all_runs=plan.accuracy_runs(config),
         cases=plan.accuracy_cases(config),
         tolerance=config.get("accuracy", {}).get("tolerance"),
         baselines=plan.accuracy_baselines(config),

@@ -7,6 +7,7 @@ from snakemake.utils import validate
 import masonrydem
 import masonrydem.cli
 from masonrydem import plan
+from masonrydem.accuracy import reference_checks, reference_runs
 
 validate(config, "../../config/schema.yaml", set_default=True)
 # refused at planning, naming the setting: NaN or infinite values, overrides the scene refuses
@@ -241,8 +242,14 @@ def get_study_outputs():
 
 
 # --- the accuracy study (issue 5) ---------------------------------------------
-def get_accuracy_results():
-    return [f"{R}/accuracy/runs/{case}/{setting}/result.parquet" for case, setting in plan.accuracy_runs(config)]
+def get_accuracy_results(runs):
+    return [f"{R}/accuracy/runs/{case}/{setting}/result.parquet" for case, setting in runs]
+
+
+def get_summary_runs():
+    """The accuracy runs the summary reads itself: all but the references'."""
+    references = set(reference_runs(config))
+    return [run for run in plan.accuracy_runs(config) if run not in references]
 
 
 def get_accuracy_sets(wildcards):
@@ -279,5 +286,5 @@ def get_accuracy_outputs():
     if not config.get("accuracy"):
         return []
     return [f"{R}/accuracy/{name}" for name in (
-        "runs.csv", "convergence.csv", "choice.csv", "pareto.png", "scaling.csv", "scaling.png",
+        "references.csv", "runs.csv", "convergence.csv", "choice.csv", "pareto.png", "scaling.csv", "scaling.png",
         "subsample.csv", "subsample.png")]

@@ -29,8 +29,8 @@ from types import SimpleNamespace
 PROVENANCE = f"{R}/provenance.json"
 METADATA = Path(".snakemake") / "metadata"
 # the rules whose outputs are one run each: not committed, so not recorded
-PER_RUN_RULES = {"simulate", "simulate_fine", "accuracy_run", "accuracy_scaling_run", "modelform_run",
-                 "hard_case_run", "reduced_run", "specimen_run"}
+PER_RUN_RULES = {"simulate", "simulate_fine", "accuracy_run", "accuracy_check_run", "accuracy_scaling_run",
+                 "modelform_run", "hard_case_run", "reduced_run", "specimen_run"}
 # what a record keeps: Snakemake's fields that decide a rerun (not the
 # command line, which names this machine's interpreter, nor times)
 RECORD = ("rule", "input", "log", "params", "code", "record_format_version", "conda_env", "container_img_url",

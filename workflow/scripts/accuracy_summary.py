@@ -9,10 +9,24 @@ import pandas as pd  # noqa: E402
 
 from masonrydem import accuracy, captions  # noqa: E402
 
-COLUMNS = ["P_max_kN", "failure_mode", "ok", "status", "steps", "wall_time_s", "blocks", "cells", "subcontact_refine",
-           "tets", "subcontacts", "units"]
-rows = [dict(case=case, setting=setting, **pd.read_parquet(p).iloc[0][COLUMNS].to_dict())
-        for (case, setting), p in zip(sm.params.runs, sm.input.results)]
+
+def rows_of(runs, results):
+    return [dict(case=case, setting=setting, **pd.read_parquet(p).iloc[0][accuracy.RUN_COLUMNS].to_dict())
+            for (case, setting), p in zip(runs, results)]
+
+
+# the references from their table, once the coarsest path level rerun now
+# has shown that they are today's solver's
+references = pd.read_csv(sm.input.references)
+accuracy.check_references(references, rows_of(sm.params.checks, sm.input.checks))
+kept = {(r["case"], r["setting"]): r for r in references[["case", "setting", *accuracy.RUN_COLUMNS]].to_dict("records")}
+missing = [run for run in map(tuple, sm.params.references) if run not in kept]
+if missing:
+    raise ValueError(f"results/accuracy/references.csv lacks the reference runs {missing}: run them "
+                     "(snakemake --cores 2 --forcerun accuracy_references accuracy)")
+rows = rows_of(sm.params.runs, sm.input.results) + [kept[tuple(run)] for run in sm.params.references]
+order = {run: i for i, run in enumerate(sm.params.all_runs)}
+rows.sort(key=lambda r: order[(r["case"], r["setting"])])
 tolerance = sm.params.tolerance
 table, conv = accuracy.sweep_table(rows, sm.params.cases, sm.params.path, sm.params.candidates,
                                    sm.params.path_tolerance)
