@@ -17,6 +17,11 @@ include: "workflow/rules/specimens.smk"
 include: "workflow/rules/modelform.smk"
 
 
+# the saved records put back before Snakemake plans, once every rule is
+# known (workflow/rules/provenance.smk)
+restore_provenance()
+
+
 # the report's landing page: what was run, how, the key table, where to
 # look (written by the rule statistics from workflow/report/workflow.rst)
 report: f"{R}/report/workflow.rst"

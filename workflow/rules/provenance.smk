@@ -127,18 +127,25 @@ def _sha256(path):
     return hashlib.sha256(Path(path).read_bytes()).hexdigest() if Path(path).is_file() else None
 
 
+@functools.cache
+def _single_run(path):
+    """Whether ``path`` is a single run's output (not committed)."""
+    return any(workflow.get_rule(name).is_producer(path) for name in PER_RUN_RULES)
+
+
 def _kept(record, saved):
     """What a saved record keeps: RECORD's fields, with the checksums of the
-    inputs that are committed (outside R, or saved themselves), and paths
-    under R written from '{R}/' (a copy of the results elsewhere is judged
-    as the results are)."""
+    inputs that are committed (outside R, saved themselves, or under R but
+    no single run's output: a table kept as data, such as the accuracy
+    study's references), and paths under R written from '{R}/' (a copy of
+    the results elsewhere is judged as the results are)."""
     def rel(path):
         return f"{{R}}/{path[len(R) + 1:]}" if path.startswith(f"{R}/") else path
     kept = {k: record.get(k) for k in RECORD}
     kept["input"] = [rel(f) for f in record.get("input") or []]
     kept["log"] = [rel(f) for f in record.get("log") or []]
     kept["input_checksums"] = {rel(f): s for f, s in (record.get("input_checksums") or {}).items()
-                               if f in saved or not f.startswith(f"{R}/")}
+                               if f in saved or not f.startswith(f"{R}/") or not _single_run(f)}
     return kept
 
 
@@ -190,6 +197,3 @@ def save_provenance():
     text = json.dumps(entries, indent=1, sort_keys=True) + "\n"
     if not Path(PROVENANCE).is_file() or Path(PROVENANCE).read_text() != text:
         Path(PROVENANCE).write_text(text)
-
-
-restore_provenance()
