@@ -25,7 +25,7 @@ REPRO := reproduction/results
 ACCURACY ?= 0
 reproduce: $(STAMP)
 	@echo "make reproduce: validation, the 1000-run study, hard cases, reduced models, specimens and the"
-	@echo "model-form study, rerun into $(REPRO) (about 35 to 50 minutes on two cores from a fresh"
+	@echo "model-form study, rerun into $(REPRO) (about 30 to 50 minutes on two cores from a fresh"
 	@echo "clone: README), then $(REPRO)/report.zip and a run-by-run comparison with results/."
 	@$(BIN)/snakemake all modelform $(if $(filter 1,$(ACCURACY)),accuracy) --config results=$(REPRO) -n --quiet rules
 	$(BIN)/snakemake --cores 2 all modelform $(if $(filter 1,$(ACCURACY)),accuracy) --config results=$(REPRO)
