@@ -48,14 +48,14 @@ from numba import njit  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(__file__))
 
-from masonrydem import kernels as K  # noqa: E402
-from masonrydem.kernels.cells import cell_forces  # noqa: E402
-from masonrydem.kernels.joints import contact_forces  # noqa: E402
-from masonrydem.kernels.zones import zone_forces  # noqa: E402
-from masonrydem.scene import load_scene  # noqa: E402
-from masonrydem.solver import Controls, init, prescribe, zone_damage  # noqa: E402
-from masonrydem.specimen import build  # noqa: E402
-from masonrydem.stops import run  # noqa: E402
+from masonrydem.dem import kernels as K  # noqa: E402
+from masonrydem.dem.kernels.cells import cell_forces  # noqa: E402
+from masonrydem.dem.kernels.joints import contact_forces  # noqa: E402
+from masonrydem.dem.kernels.zones import zone_forces  # noqa: E402
+from masonrydem.specimen.scene import build_scene  # noqa: E402
+from masonrydem.dem.solver import Controls, init, prescribe, zone_damage  # noqa: E402
+from masonrydem.specimen.build import build  # noqa: E402
+from masonrydem.dem.stops import run  # noqa: E402
 
 SCENE = "config/scenes/willis.yaml"
 TINY = ["geometry.courses=2", "geometry.units_per_course=2", "numerics.cells=[1, 1, 1]",
@@ -80,13 +80,13 @@ FRESH = """
 import time, sys
 t0 = time.perf_counter()
 import masonrydem
-from masonrydem.scene import load_scene
-from masonrydem.solver import Controls, advance, init
-from masonrydem.specimen import build
+from masonrydem.specimen.scene import build_scene
+from masonrydem.dem.solver import Controls, advance, init
+from masonrydem.specimen.build import build
 t1 = time.perf_counter()
-sp = build(load_scene("config/scenes/willis.yaml", ["geometry.courses=2", "numerics.cells=[1, 1, 1]"]))
+sp = build(build_scene("config/scenes/willis.yaml", ["geometry.courses=2", "numerics.cells=[1, 1, 1]"]))
 t2 = time.perf_counter()
-advance(init(sp.assembly), Controls(), 1)
+advance(init(sp.assembly, sp.scene.numerics), Controls(), 1)
 t3 = time.perf_counter()
 print(t1 - t0, t3 - t2)
 """
@@ -137,8 +137,8 @@ def kernel_times(overrides, steps=6000, ramp=2000):
     """Loads the wallette of SCENE (with ``overrides``) for ``steps`` steps,
     then times the zone, cell and joint kernels on copies of that state and
     a stretch of whole steps."""
-    sp = build(load_scene(SCENE, overrides))
-    s = prescribe(init(sp.assembly), sp.drive, [0.0, 5e-8, 0.0])
+    sp = build(build_scene(SCENE, overrides))
+    s = prescribe(init(sp.assembly, sp.scene.numerics), sp.drive, [0.0, 5e-8, 0.0])
     s, _, _ = run(s, steps, controls=Controls(ramp_steps=ramp), chunk=500)
     nodes = s.nodes._replace(v=s.nodes.v.copy(), f=np.zeros_like(s.nodes.f))
     zs = s.zones._replace(state=s.zones.state.copy(), stress=s.zones.stress.copy())
@@ -173,12 +173,15 @@ def job_times(tiny):
     the interpreter's start to the simulation's start) and the job's wall
     time."""
     import tempfile
-    from masonrydem.results import write_json
-    from masonrydem.sampling import records, study_samples
-    from masonrydem.study import willis_record
+    from masonrydem.specimen.row import write_json
+    from masonrydem.study.file import load_study
+    from masonrydem.study.sampling import records, wallette_samples
+    from masonrydem.study.settings import record
     size = TINY if tiny else ["geometry.courses=2", "numerics.cells=[1, 1, 1]"]
+    study = load_study("config/studies/willis.yaml")
+    table, _ = wallette_samples(2, 1, study.variables, study.correlations)
     with tempfile.TemporaryDirectory() as tmp:
-        write_json(f"{tmp}/samples.json", [willis_record(r, "nonspatial") for r in records(study_samples(2, 1)[0])])
+        write_json(f"{tmp}/samples.json", [record(r, "wallette", study.variables, study.rules) for r in records(table)])
         cmd = [sys.executable, "-m", "masonrydem.cli", "run", SCENE, "--samples", f"{tmp}/samples.json", "--variant",
                "nonspatial", "--sample", "0", "--out", tmp, "--format", "json", "--exit-zero",
                *(x for o in size for x in ("--set", o))]
@@ -237,16 +240,19 @@ def bootstrap_times(tiny):
     on the committed study's ok non-spatial runs: its time on one process and
     on two, per resample, and whether the two give the same intervals."""
     import pandas as pd
-    from masonrydem import equations as E
+    from masonrydem.analysis import equations as E
+    from masonrydem.study.file import load_study
+    study = load_study("config/studies/willis.yaml")
     runs = pd.read_parquet("results/study/runs.parquet")
-    ns = runs[runs.ok & (runs.variant == "nonspatial")]
+    ns = runs[runs.ok & (runs.variant == study.regression_variant)]
     if tiny:
         ns = ns[ns["sample"] < 30]
     n = 24 if tiny else 200
     out, tables = {}, []
     for jobs in (1, 2):
         t0 = time.perf_counter()
-        tables.append(E.equation_intervals(ns, resamples=n, seed=0, jobs=jobs, block=12 if tiny else 100))
+        tables.append(E.equation_intervals(ns, study.features, study.columns(), resamples=n, seed=0, jobs=jobs,
+                                           block=12 if tiny else 100))
         out[f"jobs{jobs}_ms_per_resample"] = round(1e3 * (time.perf_counter() - t0) / n, 1)
     out.update(resamples=n, same=bool(tables[0].equals(tables[1])))
     return out

@@ -51,15 +51,21 @@ SKIP = ("wall_time_s", "solver_version", "startup_s")
 
 
 def study_runs(n=10, levels=(0.0, 0.5)):
-    """(name, overrides, sample, variant) of n committed samples per variant."""
+    """(name, overrides, sample record, variant) of n committed samples per
+    variant of the Willis study (config/studies/willis.yaml)."""
     import pandas as pd
+
+    from masonrydem.study.file import load_study
+    from masonrydem.study.settings import record
     with open("config/config.yaml") as f:
         numerics = yaml.safe_load(f)["numerics"]
+    study = load_study("config/studies/willis.yaml")
     out = []
     for variant in ("nonspatial", "spatial"):
         table = pd.read_parquet(f"results/study/samples_{variant}.parquet")
         for i in range(n):
             s = {k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in table.iloc[i].to_dict().items()}
+            s = record(s, study.variants[variant]["draw"], study.variables, study.rules)
             for sv in levels:
                 out.append((f"study_{variant}_s{i}_sv{sv}",
                             numerics + [f"loading.precompression.pressure={sv * 1e6}"], s, variant))
@@ -77,20 +83,15 @@ def validation_runs():
 
 def run_one(scene_file, overrides, sample=None, variant=None):
     """(row, curve) of one run, values as they are written."""
-    from dataclasses import asdict
-
-    from masonrydem.inputs import apply_overrides, read_scene
-    from masonrydem.protocol import simulate
-    from masonrydem.results import curve, outcome_row
-    from masonrydem.scene import validate_scene
-    from masonrydem.study import apply_sample, willis_record
-    raw = apply_overrides(read_scene(scene_file), overrides)
-    labels = {}
+    from masonrydem.specimen.protocol import simulate
+    from masonrydem.specimen.row import curve, outcome_row
+    from masonrydem.specimen.scene import build_scene
+    labels, settings, label = {}, None, None
     if sample is not None:
-        apply_sample(raw, willis_record(sample, variant), variant)
-        labels = dict(variant=variant, sample=int(sample["sample"]))
-    outcome = simulate(validate_scene(raw), progress=False)
-    return asdict(outcome_row(outcome, **labels)), curve(outcome)
+        labels = dict(variant=variant, sample=int(sample["sample"]), inputs=sample["inputs"])
+        settings, label = sample["settings"], f"{variant}:s{int(sample['sample'])}"
+    outcome = simulate(build_scene(scene_file, overrides, settings, label), progress=False)
+    return outcome_row(outcome, **labels).values(), curve(outcome)
 
 
 def record(row, curve):
@@ -103,8 +104,9 @@ def record(row, curve):
 
 
 def compare(out, ref):
-    """Every difference between two gate records, as lines."""
-    lines = []
+    """Every difference between two gate records, as lines: (values that
+    differ, columns only one side has)."""
+    lines, columns = [], {}
     for name, rec in out.items():
         if name not in ref:
             lines.append(f"{name}: not in the reference")
@@ -114,9 +116,11 @@ def compare(out, ref):
             for k in sorted(set(a) | set(b)):
                 if k in ("variant", "sample") and a.get(k) is None:      # labels the old rows lacked
                     continue
-                if a.get(k) != b.get(k):
-                    lines.append(f"{name} {part}.{k}: before {str(a.get(k))[:80]}, now {str(b.get(k))[:80]}")
-    return lines
+                if (k in a) != (k in b):
+                    columns.setdefault(f"{part}.{k} {'dropped' if k in a else 'added'}", []).append(name)
+                elif a[k] != b[k]:
+                    lines.append(f"{name} {part}.{k}: before {str(a[k])[:80]}, now {str(b[k])[:80]}")
+    return lines, [f"{col} in {len(runs)} runs (e.g. {runs[0]})" for col, runs in columns.items()]
 
 
 def main():
@@ -141,7 +145,9 @@ def main():
             json.dump(out, f)
     if args.compare:
         with open(args.compare) as f:
-            diff = compare(out, json.load(f))
+            diff, columns = compare(out, json.load(f))
+        for line in columns:
+            print("COLUMN", line, file=sys.stderr)
         for line in diff:
             print("DIFFERENT", line, file=sys.stderr)
         print(f"identical: {len(out)} runs, rows and curves" if not diff else f"{len(diff)} differences",

@@ -17,11 +17,11 @@ import argparse
 
 import numpy as np
 
-from masonrydem.protocol import CHUNK, precompress
-from masonrydem.scene import load_scene
-from masonrydem.solver import Controls, Numerics, init, prescribe
-from masonrydem.specimen import build
-from masonrydem.stops import Stops, run
+from masonrydem.specimen.protocol import CHUNK, precompress
+from masonrydem.specimen.scene import build_scene
+from masonrydem.dem.solver import Controls, Numerics, init, prescribe
+from masonrydem.specimen.build import build
+from masonrydem.dem.stops import Stops, run
 
 
 def bearing_x(state, strip):
@@ -66,7 +66,7 @@ def main():
     ap.add_argument("--set", action="append", default=[])
     args = ap.parse_args()
     for w in args.widths:
-        scene = load_scene(args.scene, args.set + [f"loading.bending.strip_width={w}"])
+        scene = build_scene(args.scene, args.set + [f"loading.bending.strip_width={w}"])
         P, xs, strips = at_peak(scene)
         bend = scene.loading.bending
         centre = 0.5 * (min(bend.supports_x) + max(bend.supports_x))

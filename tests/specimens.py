@@ -2,9 +2,12 @@
 import numpy as np
 
 from masonrydem import Elastic, Model
-from masonrydem.history import concat
-from masonrydem.solver import init, prescribe
-from masonrydem.stops import Stops, run
+from masonrydem.dem.history import concat
+from masonrydem.dem.solver import Numerics, init, prescribe
+from masonrydem.dem.stops import Stops, run
+
+# the quasi-static integration these tests were written at (local damping 0.8)
+QS = Numerics(damping=0.8, safety=0.9)
 
 
 
@@ -38,7 +41,7 @@ def pull_joint(props, rate=2e-9, law="coupled_softening", max_steps=200_000):
     up = block_nodes(m, upper)
     m.fix(up, dofs=(0, 1, 2), velocity=(0.0, 0.0, rate))
     m.add_monitor("pull", up, 2)
-    state = init(m.build())
+    state = init(m.build(), QS)
     wu = 2 * props.GI / props.ft
     state, rec, _ = run(state, max_steps, Stops(disp_limit=1.2 * wu + props.ft / props.kn, monitor="pull"),
                         record_every=1)
@@ -57,7 +60,7 @@ def shear_joint(props, sigma, rate=2e-9, law="coupled_softening", travel=None, m
     if sigma:
         m.add_pressure(2, 0.1, +1, ((-1, 1), (-1, 1)), sigma)
     m.add_monitor("shear", up, 0)
-    state = init(m.build())
+    state = init(m.build(), QS)
     histories = []
     if sigma:                       # precompress first, then shear
         state = prescribe(state, (up, 0), 0.0)

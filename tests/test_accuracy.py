@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 
 import masonrydem
-from masonrydem import accuracy
+from masonrydem.analysis import accuracy
 
 
 def test_richardson_recovers_limit_and_order():
@@ -96,19 +96,22 @@ def test_compare_subsample():
 
 
 def test_solver_hash_covers_everything_a_simulation_runs():
-    """Every package module that a simulation imports (its entry point,
-    the command line, and what it runs, in a fresh interpreter) is in the hash, so that changing it reruns
-    the simulations; the analysis modules are not imported by them and
-    not hashed."""
-    code = ("import sys, masonrydem.cli, masonrydem.protocol, masonrydem.results, masonrydem.study; "
+    """Every package module that a simulation imports (what a run runs,
+    in a fresh interpreter: the protocol, the row and its state) is in the
+    hash, so that changing it reruns the simulations; the analysis, the
+    study, the report and the pipeline are neither imported by a run nor
+    hashed.  (The package's own __init__ and the command line are not
+    hashed: they decide nothing a simulation computes.)"""
+    code = ("import sys, masonrydem.specimen.protocol, masonrydem.specimen.row, masonrydem.specimen.state, "
+            "masonrydem.specimen.scene; "
             "print('\\n'.join(m.__file__ for n, m in sys.modules.items() if n.startswith('masonrydem')))")
     files = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
     pkg = Path(masonrydem.__file__).parent
-    imported = {Path(f).relative_to(pkg).as_posix() for f in files}
+    imported = {Path(f).relative_to(pkg).as_posix() for f in files} - {"__init__.py"}
     sources = set(masonrydem.simulation_sources())
     assert imported <= sources, imported - sources
-    assert "scene_schema.yaml" in sources and "kernels/step.py" in sources
-    assert not set(masonrydem.ANALYSIS_ONLY) & (sources | {Path(f).name for f in imported})
+    assert "specimen/scene_schema.yaml" in sources and "dem/kernels/step.py" in sources
+    assert not any(s.split("/")[0] in ("analysis", "study", "report", "pipeline") for s in sources | imported)
 
 
 def test_the_source_hash_ignores_documentation_only():
@@ -133,7 +136,7 @@ def test_references_are_read_only_when_todays_solver_reproduces_them():
     its printed digits in the same steps; anything else (another P_max, other
     steps, a run the table lacks) is refused with the command that remakes it."""
     import pandas as pd
-    from masonrydem.accuracy import check_references
+    from masonrydem.analysis.accuracy import check_references
     table = pd.DataFrame([dict(case="joint_sv0", setting="path_c7x3x2", P_max_kN=12.5737, steps=33000)])
     same = dict(case="joint_sv0", setting="path_c7x3x2", P_max_kN=12.573731237951991, steps=33000)
     check_references(table, [same])

@@ -4,9 +4,14 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from masonrydem import analysis as A
-from masonrydem import equations as E
-from masonrydem import validation as V
+from masonrydem.analysis import statistics as A
+from masonrydem.analysis import equations as E
+from masonrydem.analysis import validation as V
+
+# a swept level, the terms and the random inputs of the constructed runs below
+SV = A.Level("sigma_v_mpa", "sigma_v", "MPa")
+TERMS = ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v")
+INPUTS = ["f_tj_mpa", "f_tu_mpa", "phi_j_deg", "E_b_mpa"]
 
 
 def _runs():
@@ -32,14 +37,14 @@ def test_statistics_exclude_failed_runs_and_count_them():
     """Joint runs base-1, base, base+1: mean = base, COV = 1/base; brick run
     2 base alone; brick share 1/4; the failed runs (P = 1e9, P = NaN) are
     excluded and counted."""
-    st = A.statistics(_runs())
+    st = A.statistics(_runs(), SV)
     j = st[(st.variant == "nonspatial") & (st.sigma_v_mpa == 0.0) & (st["mode"] == "joint")].iloc[0]
     assert j["count"] == 3 and j.P_max_mean_kN == pytest.approx(10.0)
     assert j.P_max_cov == pytest.approx(1.0 / 10.0)
     assert j.brick_share == pytest.approx(0.25) and j.excluded == 2
     a = st[(st.variant == "spatial") & (st.sigma_v_mpa == 0.5) & (st["mode"] == "all")].iloc[0]
     assert a.P_max_mean_kN == pytest.approx((14 + 15 + 16 + 30) / 4) and a["count"] == 4
-    inc = A.increase(st)
+    inc = A.increase(st, 0.0, 0.5, SV)
     row = inc[(inc.variant == "nonspatial") & (inc["mode"] == "joint")].iloc[0]
     assert row.increase == pytest.approx(15.0 / 10.0 - 1.0)
 
@@ -51,7 +56,7 @@ def test_running_mean():
 def test_correlations_signs():
     """f_tj rises with P_max (r = +1 in the joint group), f_tu falls (r = -1),
     E_b is constant (no correlation defined: NaN)."""
-    c = A.correlations(_runs())
+    c = A.correlations(_runs(), INPUTS, SV)
     j = c[(c.variant == "nonspatial") & (c.sigma_v_mpa == 0.0) & (c["mode"] == "joint")].iloc[0]
     assert j.f_tj_mpa == pytest.approx(1.0) and j.f_tu_mpa == pytest.approx(-1.0)
     assert np.isnan(j.E_b_mpa)
@@ -81,10 +86,10 @@ def test_lasso_recovers_known_coefficients():
     level (< 1 %) both fitted and out of fold.  (Against least squares
     itself and the Lasso's optimality: tests/test_regression.py.)"""
     f_tu, f_tj, sv, y, sample, _ = _study_like(0, 100, 0.01)
-    eq = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y, sample)
-    X1 = np.column_stack([np.ones(y.size), E.features(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv))])
+    eq = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y, sample, TERMS)
+    X1 = np.column_stack([np.ones(y.size), E.features(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), TERMS)])
     se = 0.01 * np.sqrt(np.diag(np.linalg.inv(X1.T @ X1)))
-    got = np.array([eq["intercept"], *(eq["coef"][k] for k in E.FEATURES)])
+    got = np.array([eq["intercept"], *(eq["coef"][k] for k in TERMS)])
     law = np.array([0.4, 0.0, 2.0, 0.05, 0.0, 0.9])       # intercept, f_tu, f_tj, f_tu^2, f_tj^2, sigma_v
     assert np.all(np.abs(got - law) <= 4 * se), (got - law) / se
     assert eq["mape"] < 1.0 and eq["cv_mape"] < 1.0
@@ -98,13 +103,13 @@ def test_out_of_fold_prediction_never_sees_its_own_sample():
     sample 3 leaves its own predictions unchanged, and changes the fitted
     equation's.  Noise-free, both MAPEs are small."""
     f_tu, f_tj, sv, y, sample, law = _study_like(1, 12, 0.05)
-    a = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y, sample)
+    a = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y, sample, TERMS)
     y2 = np.where(sample == 3, y + 5.0, y)
-    b = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y2, sample)
+    b = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y2, sample, TERMS)
     mine = sample == 3
     np.testing.assert_allclose(b["cv_predicted"][mine], a["cv_predicted"][mine], rtol=1e-12)
     assert np.all(np.abs(b["fitted"][mine] - a["fitted"][mine]) > 1e-3)
-    exact = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), law, sample)
+    exact = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), law, sample, TERMS)
     assert exact["mape"] < 1.0 and exact["cv_mape"] < 1.0
 
 
@@ -112,10 +117,10 @@ def test_too_few_samples_for_nested_cv():
     """Nested 5-fold CV needs 7 samples (each inner fit 5 of the outer 4/5):
     6 are refused with the reason, 7 fit."""
     f_tu, f_tj, sv, y, sample, _ = _study_like(2, 7, 0.01)
-    E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y, sample)
+    E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y, sample, TERMS)
     six = sample < 6
     with pytest.raises(ValueError, match="at least 7"):
-        E.fit_equation(dict(f_tu=f_tu[six], f_tj=f_tj[six], sigma_v=sv[six]), y[six], sample[six])
+        E.fit_equation(dict(f_tu=f_tu[six], f_tj=f_tj[six], sigma_v=sv[six]), y[six], sample[six], TERMS)
 
 
 def test_prediction_over_samples():
@@ -124,7 +129,7 @@ def test_prediction_over_samples():
     the scatter 2 SD(f_tj); at 0.5 MPa the brick one (-10, the same for all)
     is lower: mean -10, no scatter.  At 0.2 MPa the brick equation gives 2
     and the mean is E[min(2 f_tj, 2)], below min(2 mean(f_tj), 2) (Jensen)."""
-    zero = {k: 0.0 for k in E.FEATURES}
+    zero = {k: 0.0 for k in TERMS}
     joint = dict(intercept=0.0, coef={**zero, "f_tj": 2.0})
     brick = dict(intercept=10.0, coef={**zero, "sigma_v": -40.0})
     f_tj = np.random.default_rng(2).lognormal(np.log(0.3), 0.4, 100) * 3
@@ -137,8 +142,8 @@ def test_prediction_over_samples():
 
 
 def test_lower_of_two():
-    joint = dict(intercept=1.0, coef={k: 0.0 for k in E.FEATURES})
-    brick = dict(intercept=0.0, coef={**{k: 0.0 for k in E.FEATURES}, "sigma_v": 4.0})
+    joint = dict(intercept=1.0, coef={k: 0.0 for k in TERMS})
+    brick = dict(intercept=0.0, coef={**{k: 0.0 for k in TERMS}, "sigma_v": 4.0})
     s, mode = E.lower_of_two(joint, brick, dict(f_tu=[3.75] * 3, f_tj=[0.3] * 3, sigma_v=[0.0, 0.25, 0.5]))
     assert s.tolist() == [0.0, 1.0, 1.0] and mode.tolist() == ["brick", "joint", "joint"]
 
@@ -160,10 +165,10 @@ def test_one_solver_version():
     none); one run from other sources is refused by name."""
     runs = pd.DataFrame(dict(variant=["spatial"] * 4, sigma_v_mpa=[0.15] * 4, sample=[0, 1, 2, 3],
                              solver_version=["0.1.0+aaa", "0.1.0+aaa", None, "0.1.0+aaa"]))
-    assert A.check_one_solver(runs) == "0.1.0+aaa"
+    assert A.check_one_solver(runs, SV) == "0.1.0+aaa"
     runs.loc[1, "solver_version"] = "0.1.0+bbb"
     with pytest.raises(ValueError, match=r"spatial/0.15 MPa/s1 \(0.1.0\+bbb\)"):
-        A.check_one_solver(runs)
+        A.check_one_solver(runs, SV)
 
 
 def test_correlation_band_holds_95_percent_of_independent_correlations():
@@ -179,9 +184,9 @@ def test_correlation_band_holds_95_percent_of_independent_correlations():
 def test_input_spread():
     runs = pd.DataFrame(dict(variant=["a"] * 4 + ["b"] * 2, sample=[0, 1, 0, 1, 0, 1], f_tj_mpa=[0.2, 0.4, 0.2, 0.4, 1, 1],
                              f_tu_mpa=3.0, phi_j_deg=35.0, E_b_mpa=15e3))
-    cov = A.input_spread(runs, "a")
+    cov = A.input_spread(runs, "a", INPUTS)
     np.testing.assert_allclose(cov["f_tj_mpa"], np.std([0.2, 0.4], ddof=1) / 0.3)
-    assert cov["f_tu_mpa"] == 0.0 and A.input_spread(runs, "b")["f_tj_mpa"] == 0.0 and A.input_spread(runs, "c") == {}
+    assert cov["f_tu_mpa"] == 0.0 and A.input_spread(runs, "b", INPUTS)["f_tj_mpa"] == 0.0 and A.input_spread(runs, "c", INPUTS) == {}
 
 
 def test_scatter_level_is_the_nearest_to_the_middle_of_the_range():
@@ -189,7 +194,7 @@ def test_scatter_level_is_the_nearest_to_the_middle_of_the_range():
     its range (0.25 MPa of 0 to 0.5), itself; between levels, the nearer
     one; any swept setting by its column."""
     runs = pd.DataFrame(dict(sigma_v_mpa=[0.5, 0.0, 0.15, 0.25, 0.075]))
-    assert A.scatter_level(runs) == 0.25
+    assert A.scatter_level(runs, SV) == 0.25
     t = A.Level("t_mm", "t", "mm")
-    assert A.scatter_level(pd.DataFrame(dict(t_mm=[8.0, 10.0, 11.0, 16.0])), level=t) == 11.0
-    assert A.scatter_level(runs, near=0.11) == 0.075 and A.scatter_level(runs, near=0.4) == 0.5
+    assert A.scatter_level(pd.DataFrame(dict(t_mm=[8.0, 10.0, 11.0, 16.0])), t) == 11.0
+    assert A.scatter_level(runs, SV, near=0.11) == 0.075 and A.scatter_level(runs, SV, near=0.4) == 0.5

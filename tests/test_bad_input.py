@@ -14,10 +14,13 @@ import pandas as pd
 import pytest
 import yaml
 
-from masonrydem import InputError, cli, plan, protocol, results
-from masonrydem.inputs import MAX_BYTES, read_scene
-from masonrydem.scene import SCHEMA, load_scene, model_size, validate_scene
-from masonrydem.specimen import build
+from masonrydem import InputError, cli
+from masonrydem.pipeline import plan
+from masonrydem.specimen import protocol, row as results
+from masonrydem.specimen.files import MAX_BYTES, read_scene
+from masonrydem.specimen.scene import SCHEMA, build_scene, validate_scene
+from masonrydem.specimen.size import model_size
+from masonrydem.specimen.build import build
 
 WILLIS = "config/scenes/willis.yaml"
 TEXT = Path(WILLIS).read_text()
@@ -180,8 +183,8 @@ def test_large_inputs_are_refused_in_a_fresh_process(tmp_path, case):
 
 def test_the_scenes_of_the_project_are_accepted():
     for path in ("config/scenes/willis.yaml", "config/scenes/tension.yaml", "config/scenes/triplet.yaml"):
-        load_scene(path)
-    load_scene(WILLIS, ["loading.bending.strip_stiffness_ratio=100", "outputs.curve_points=100000"])
+        build_scene(path)
+    build_scene(WILLIS, ["loading.bending.strip_stiffness_ratio=100", "outputs.curve_points=100000"])
 
 
 def test_size_estimate_bounds_the_model_built():
@@ -191,9 +194,9 @@ def test_size_estimate_bounds_the_model_built():
                       ["physics.blocks=potential-crack", "numerics.elastic_element=hex8i", "numerics.cells=[2, 2, 1]"],
                       ["physics.blocks=rigid", "numerics.subcontact_refine=3"],
                       ["physics.blocks=elastic", "numerics.cells=[4, 2, 2]", "geometry.bond_offset=0.25"], []):
-        scene = load_scene(WILLIS, overrides)
+        scene = build_scene(WILLIS, overrides)
         a = build(scene).assembly
-        size = model_size(scene.geometry, scene.physics, scene.numerics, scene.loading)
+        size = model_size(scene.geometry, scene.physics, scene.discretization, scene.loading)
         assert (size["nodes"], size["tetrahedra"], size["cells"]) == (
             a.nodes.x0.shape[0], a.zones.tets.shape[0], a.cells.nodes.shape[0]), overrides
         subs = a.joints.nodes.shape[0] + a.bearings.nodes.shape[0]
@@ -208,7 +211,7 @@ def test_anchors_aliases_and_merge_keys_within_limits_are_read(tmp_path):
     text = TEXT.replace("    E: 15.0e9\n", "    E: &E 15.0e9\n").replace(
         ks, ks + "  per_unit: {E: [" + ", ".join(["*E"] * 24) + "]}\n")
     scene = read_scene(_scene(tmp_path, text))
-    validate_scene(scene)       # as load_scene: the mapping validated, its defaults filled in
+    validate_scene(scene)       # as build_scene: the mapping validated, its defaults filled in
     assert scene["materials"]["per_unit"]["E"] == [15.0e9] * 24
     assert SCHEMA["properties"]["loading"]["properties"]["tension"]["properties"]["rate"]["default"] == 2.0e-9
 
@@ -222,7 +225,7 @@ def test_internal_error_writes_its_row_and_exits_3(tmp_path, monkeypatch, capsys
     assert "RuntimeError: boom" in capsys.readouterr().err
     row = pd.read_parquet(tmp_path / "result.parquet").iloc[0]
     assert row["status"] == "error" and not row["ok"] and row["message"] == "RuntimeError: boom"
-    assert row["scene"] == "willis" and row["cells"] == "x".join(map(str, load_scene(WILLIS).numerics.cells))
+    assert row["scene"] == "willis" and row["cells"] == "x".join(map(str, build_scene(WILLIS).discretization.cells))
     curve = pd.read_parquet(tmp_path / "curve.parquet")
     assert len(curve) == 0 and list(curve.columns) == list(results.CURVE_COLUMNS)
 

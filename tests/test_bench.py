@@ -7,8 +7,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-from masonrydem.scene import load_scene
-from masonrydem.specimen import build
+from masonrydem.specimen.scene import build_scene
+from masonrydem.specimen.build import build
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -24,7 +24,7 @@ def test_bench_runs_on_a_tiny_wallette(monkeypatch):
     monkeypatch.setenv("NUMBA_NUM_THREADS", str(numba.config.NUMBA_NUM_THREADS))
     monkeypatch.syspath_prepend(str(ROOT / "benchmarks"))
     from bench import MODELS, TINY
-    sp = build(load_scene(str(ROOT / "config/scenes/willis.yaml"), MODELS["elasto-plastic"][1] + TINY))
+    sp = build(build_scene(str(ROOT / "config/scenes/willis.yaml"), MODELS["elasto-plastic"][1] + TINY))
     a = sp.assembly
     assert r["tetrahedra"] == 4 * 10 == a.zones.tets.shape[0]
     assert r["subcontacts"] == a.joints.area.size

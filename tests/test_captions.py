@@ -1,4 +1,4 @@
-"""The report's captions (masonrydem.captions) and the tables they read,
+"""The report's captions (report/captions.py) and the tables they read,
 each from a tiny table whose numbers are known: every caption names the
 numbers of its rows, and fills its template (workflow/report/) without a
 field left over."""
@@ -9,10 +9,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from masonrydem import accuracy, analysis, captions, figures, validation
-from masonrydem import equations as E
-from masonrydem.sampling import STUDY_VARIABLES, sampling_check
-from masonrydem.studyfile import input_means
+from masonrydem.analysis import accuracy, statistics as analysis, validation
+from masonrydem.report import captions, figures
+from masonrydem.specimen.scene import build_scene
+from masonrydem.study.sampling import sampling_check
 
 REPORT = Path(__file__).parent.parent / "workflow" / "report"
 
@@ -87,11 +87,11 @@ def test_specimens_triplet_against_its_closed_forms():
                            "sigma tan phi = 0.146 MPa: +3.0 %")
 
 
-def test_sampling_check_table_and_caption():
+def test_sampling_check_table_and_caption(willis):
     """A sample of four rows with known means and COVs; the caption's
     E_b-f_tu correlation, the largest other one (off the diagonal) and the
     largest relative deviations from the targets."""
-    v = {x.name: x for x in STUDY_VARIABLES}
+    v = {x.name: x for x in willis.variables}
     sample = pd.DataFrame({n: v[n].mean * np.array([0.9, 1.0, 1.0, 1.1]) for n in v})
     sample["f_tj"] = v["f_tj"].mean * np.array([1.0, 1.0, 1.1, 1.1])     # mean +5 %
     achieved = np.eye(4)
@@ -99,11 +99,11 @@ def test_sampling_check_table_and_caption():
     i, j, k = names.index("E_b"), names.index("f_tu"), names.index("phi_j")
     achieved[i, j] = achieved[j, i] = 0.49
     achieved[i, k] = achieved[k, i] = -0.03
-    check = sampling_check(sample, achieved)
+    check = sampling_check(sample, achieved, willis.variables)
     assert list(check.variable) == names and check.loc[i, f"corr_{names[j]}"] == 0.49
     cov = np.std([0.9, 1.0, 1.0, 1.1], ddof=1)
     assert check.set_index("variable").loc["E_b", "cov_sample"] == pytest.approx(cov)
-    values = captions.sampling_check(check, achieved)
+    values = captions.sampling_check(check, achieved, willis.correlations)
     assert values["targets"] == "E_b-f_tu target 0.5, achieved **0.490**" and values["other"] == pytest.approx(0.03)
     assert values["mean_dev"] == pytest.approx(5.0)
     # the largest COV deviation: f_tj's, 1, 1, 1.1, 1.1 x its mean against its target 0.4
@@ -129,13 +129,13 @@ def _runs():
     return pd.DataFrame(rows)
 
 
-def test_statistics_captions():
+def test_statistics_captions(level, inputs):
     """All modes at 0 MPa: mean (9 + 10 + 11 + 20) / 4 = 12.5 kN, a quarter
     brick failures; two failed runs excluded; the increase of the joint
     mean from 10 to 15 kN is +50 %."""
     runs = _runs()
-    st, corr, inc = analysis.study_tables(runs, resamples=200, seed=0)
-    values = captions.statistics(runs, st, corr, inc)
+    st, corr, inc = analysis.study_tables(runs, 200, 0, inputs, level)
+    values = captions.statistics(runs, st, corr, inc, level, inputs)
     text = fill("statistics", values["statistics"])
     assert "**2 of 10 runs excluded** (step_limit: 2)" in text
     # the mean of resamples of 9, 10, 11, 20 lies between 9 and 20
@@ -147,17 +147,17 @@ def test_statistics_captions():
     fill("increase", values["increase"])
     # four runs: the 5 % band of r is 1.96 / sqrt(3)
     assert values["correlations"]["noise"] == f"+-{1.96 / np.sqrt(3):.2f} for n = 4"
-    assert values["correlations"]["field_spread"] == "none run"
+    assert values["correlations"]["spreads"].startswith("nonspatial: f_tj_mpa ")
     assert "- nonspatial, 0 MPa: f_tj_mpa (+1.00)" in fill("correlations", values["correlations"])
 
 
-def test_study_figures_captions():
+def test_study_figures_captions(level, inputs):
     runs = _runs()
-    st = analysis.statistics(runs)
-    corr = analysis.correlations(runs)
-    sv = analysis.scatter_level(runs)
+    st = analysis.statistics(runs, level)
+    corr = analysis.correlations(runs, inputs, level)
+    sv = analysis.scatter_level(runs, level)
     assert sv == 0.0                                  # of 0 and 0.5, nearest 0.25 is the first
-    values = captions.study_figures(runs, st, corr, sv)
+    values = captions.study_figures(runs, st, corr, sv, level, inputs, "nonspatial")
     assert values["brick_share"]["lines"] == "nonspatial: 0 MPa 25 %, 0.5 MPa 25 %"
     assert values["scatter_deviation"]["n"] == 4 and values["scatter_deviation"]["lines"].startswith("f_tj_mpa +1.00")
     # drop after the peak: joint runs 0.1, 0.2, 0.3 (median 20 %), the brick run 0.4
@@ -172,16 +172,16 @@ def test_study_figures_captions():
         fill(name, v)
 
 
-def test_study_pictures_pick_the_run_nearest_the_median_where_the_mode_is_most_frequent():
+def test_study_pictures_pick_the_run_nearest_the_median_where_the_mode_is_most_frequent(level):
     runs = _runs()
     runs.loc[(runs.sigma_v_mpa == 0.5) & (runs["sample"] == 0), "failure_mode"] = "brick"
-    pick, at = figures.typical_run(runs, "nonspatial", "joint")
+    pick, at = figures.typical_run(runs, "nonspatial", "joint", level)
     assert pick["sample"] == 1 and pick.sigma_v_mpa == 0.0 and len(at) == 3      # 3 joint runs at 0, 2 at 0.5
-    bpick, bat = figures.typical_run(runs, "nonspatial", "brick")
+    bpick, bat = figures.typical_run(runs, "nonspatial", "brick", level)
     assert bpick.sigma_v_mpa == 0.5 and len(bat) == 2
-    assert figures.typical_run(runs, "spatial", "joint") == (None, None)
+    assert figures.typical_run(runs, "spatial", "joint", level) == (None, None)
     text = fill("study_pictures", captions.study_pictures([("nonspatial", "joint", pick, at),
-                                                            ("spatial", "joint", None, None)]))
+                                                            ("spatial", "joint", None, None)], level))
     assert ("- nonspatial, joint failure: sample 1 at 0 MPa (the level with most joint failures, 3 of them, median "
             "P_max 10.00 kN): P_max **10.00 kN**, repeated exactly by the rerun\n"
             "- spatial, joint failure: no run") in text
@@ -198,29 +198,30 @@ def test_equations_caption():
     assert "- the predictor, the joint equation alone (43 runs): MAPE **7.0 %**, failure mode right in **93 %**" in text
 
 
-def test_design_table_and_caption():
+def test_design_table_and_caption(willis, columns):
     """One joint equation sigma = 0.1 + sigma_v (as the lower of two it
     stands for both): at the mean properties it is 0.1 + sigma_v; the
-    caption reads the table at the simulated levels (0.25 MPa interpolated)."""
-    eq = dict(intercept=0.1, coef=dict(zip(E.FEATURES, [0.0, 0.0, 0.0, 0.0, 1.0])))
+    caption reads the table at the simulated levels (0.25 MPa interpolated).
+    The design rules read f_tj and f_tu of the wallette of mean properties:
+    the Willis study's means, 0.3 and 3.75 MPa."""
+    eq = dict(intercept=0.1, coef=dict(zip(willis.features, [0.0, 0.0, 0.0, 0.0, 1.0])))
     ns = pd.DataFrame(dict(sample=[0, 1, 0, 1], f_tu_mpa=[3.0, 4.0, 3.0, 4.0], f_tj_mpa=[0.2, 0.4, 0.2, 0.4],
                            sigma_v_mpa=[0.0, 0.0, 0.5, 0.5], strength_mpa=[0.1, 0.1, 0.6, 0.6]))
-    geometry = dict(l_o=0.115, h_b=0.086, c_ratio=1.5)
+    mean_scene = build_scene(willis.scene, settings=willis.mean_settings())
+    inputs = dict(validation.design_inputs(mean_scene), l_o=0.115, h_b=0.086, c_ratio=1.5)
+    assert (inputs["ft_units"], inputs["ft_joints"]) == pytest.approx((3.75, 0.3), rel=1e-15)
     design = validation.design_table({"joint": (eq, ns.strength_mpa.to_numpy())}, ns, 0.0, np.array([0.0, 0.5]),
-                                   geometry)
+                                     inputs, willis.means(), columns, willis.sweep_name)
     assert design.prediction.tolist() == pytest.approx([0.1, 0.6]) and design.band_sd.tolist() == [0.0, 0.0]
-    means = input_means(STUDY_VARIABLES)
-    f_tu, f_tj = means["f_tu"], means["f_tj"]
-    assert (f_tu, f_tj) == pytest.approx((3.75, 0.3))
     assert design.lg_stepped.iloc[0] == pytest.approx(1.5 * 0.3 * 0.115 / 0.086) and design.lg_brick.iloc[0] == 1.875
     simulated = pd.DataFrame({"mean": [0.35], "std": [0.05]}, index=pd.Index([0.25], name="sigma_v_mpa"))
-    values = captions.design_comparison(design, simulated, ["joint"], 0.02, 2, geometry)
+    values = captions.design_comparison(design, simulated, ["joint"], 0.02, 2, inputs)
     text = fill("design_comparison", values)
     assert "the joint equation alone (too few runs of the other mode)" in text
     assert "l_o = 115 mm" in text and "h_b = 86 mm" in text
     assert ("- 0.25 MPa: simulated **0.350 +- 0.050 MPa**, predicted **0.350 +- 0.000 MPa** at the mean properties, "
             "**0.350 MPa** on average over the samples") in text
-    assert captions.design_comparison(design, simulated, [], 0.02, 2, geometry)["equations"] == \
+    assert captions.design_comparison(design, simulated, [], 0.02, 2, inputs)["equations"] == \
         "no equation (too few runs)"
 
 

@@ -1,4 +1,4 @@
-"""Issue 35: ``masonrydem check`` (a scene validated and estimated, nothing
+"""``masonrydem check`` (a scene validated and estimated, nothing
 built or run) and ``masonrydem predict`` (a study's equations as a tool),
 the latter on synthetic runs whose strengths follow known equations."""
 import json
@@ -9,8 +9,12 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from masonrydem import InputError, check, equations, predict, protocol, specimen
-from masonrydem.scene import load_scene, model_size
+from masonrydem import InputError
+from masonrydem.pipeline import check
+from masonrydem.analysis import equations, predict
+from masonrydem.specimen import protocol, build as specimen
+from masonrydem.specimen.scene import build_scene
+from masonrydem.specimen.size import model_size
 
 WILLIS = "config/scenes/willis.yaml"
 
@@ -28,15 +32,15 @@ def test_check_counts_the_model_and_builds_nothing(monkeypatch, capsys):
     monkeypatch.setattr(protocol, "simulate", refuse)
     assert cli.main(["check", WILLIS, "--set", "numerics.cells=[4, 2, 2]"]) == 0
     out = capsys.readouterr().out
-    scene = load_scene(WILLIS, ["numerics.cells=[4, 2, 2]"])
-    size = model_size(scene.geometry, scene.physics, scene.numerics, scene.loading)
+    scene = build_scene(WILLIS, ["numerics.cells=[4, 2, 2]"])
+    size = model_size(scene.geometry, scene.physics, scene.discretization, scene.loading)
     assert f"{size['nodes']:,} nodes" in out and f"{size['sub_contacts']:,} sub-contacts" in out
     assert f"{size['cells']:,} cells" in out and "valid" in out and "nothing was built or run" in out
 
 
 def test_check_estimates_time_from_the_counts_and_the_drive():
-    scene = load_scene(WILLIS)
-    size = model_size(scene.geometry, scene.physics, scene.numerics, scene.loading)
+    scene = build_scene(WILLIS)
+    size = model_size(scene.geometry, scene.physics, scene.discretization, scene.loading)
     per_step = check.step_seconds(scene, size)
     assert per_step == pytest.approx(size["sub_contacts"] * 15e-9 + size["cells"] * 37e-9 + size["nodes"] * 9e-9)
     d = scene.loading.drive
@@ -44,7 +48,7 @@ def test_check_estimates_time_from_the_counts_and_the_drive():
     # the Willis scene: a 1 mm limit at 7.5e-8 m a step after a ramp of 1000 steps
     assert (d.max_displacement, d.rate, d.ramp_steps) == (1e-3, 7.5e-8, 1000)
     assert drive == 1000 + 13334 and pre == 0
-    longer = load_scene(WILLIS, ["loading.bending.max_displacement=2 mm", "loading.precompression.pressure=0.1 MPa"])
+    longer = build_scene(WILLIS, ["loading.bending.max_displacement=2 mm", "loading.precompression.pressure=0.1 MPa"])
     assert check.step_bound(longer) == (1000 + 26667, longer.loading.precompression.max_steps)
 
 
@@ -56,6 +60,10 @@ def test_check_refuses_a_bad_scene_with_exit_2():
 # --- predict: synthetic runs with known equations ---------------------------------
 JOINT = dict(intercept=0.2, f_tj=4.5, sigma_v=2.5)       # MPa
 BRICK = dict(intercept=0.5, f_tu=0.5)
+# the synthetic runs' terms, inputs' columns and SI units
+TERMS = ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v")
+COLUMNS = dict(f_tu="f_tu_mpa", f_tj="f_tj_mpa", sigma_v="sigma_v_mpa")
+UNITS = dict(f_tu="Pa", f_tj="Pa", sigma_v="Pa")
 
 
 def _synthetic(n=60, seed=1):
@@ -77,8 +85,8 @@ def _synthetic(n=60, seed=1):
 @pytest.fixture(scope="module")
 def predictor():
     ns = _synthetic()
-    fits, _, _ = equations.prediction_equations(ns)
-    return predict.build(fits, ns, load_scene(WILLIS), source="synthetic runs")
+    fits, _, _ = equations.prediction_equations(ns, TERMS, COLUMNS)
+    return predict.build(fits, ns, build_scene(WILLIS), "synthetic runs", COLUMNS, UNITS, "synthetic")
 
 
 def test_predict_recovers_the_known_equations_and_the_load(predictor):
@@ -101,28 +109,28 @@ def test_predict_names_the_brick_mode_where_its_equation_is_lower(predictor):
 
 
 @pytest.mark.parametrize("args,option,words", [
-    (("3.5", "0.25 MPa", "0 MPa"), "--ftu", "did you mean 3.5 MPa?"),
-    (("3.5 MPa", "0.95 MPa", "0 MPa"), "--ftj", "fitted on"),
-    (("3.5 MPa", "0.25 MPa", "1 MPa"), "--sv", "fitted on"),
-    (("3.5 MPa", "0.25 mm", "0 MPa"), "--ftj", "a length"),
+    (("3.5", "0.25 MPa", "0 MPa"), "f_tu", "did you mean 3.5 MPa?"),
+    (("3.5 MPa", "0.95 MPa", "0 MPa"), "f_tj", "fitted on"),
+    (("3.5 MPa", "0.25 MPa", "1 MPa"), "sigma_v", "fitted on"),
+    (("3.5 MPa", "0.25 mm", "0 MPa"), "f_tj", "a length"),
 ])
 def test_predict_refuses_inputs_outside_the_fitted_range(predictor, args, option, words):
     with pytest.raises(InputError) as e:
-        predict.predict(predictor, predict.OPTIONS, **dict(zip(("f_tu", "f_tj", "sigma_v"), args)))
+        predict.predict(predictor, None, **dict(zip(("f_tu", "f_tj", "sigma_v"), args)))
     assert e.value.field == option and words in e.value.reason
-    assert "230 x 65 x 114 mm" in e.value.reason or e.value.field == "--ftj" and "length" in e.value.reason
+    assert "230 x 65 x 114 mm" in e.value.reason or e.value.field == "f_tj" and "length" in e.value.reason
 
 
 def test_predict_on_the_command_line(tmp_path, predictor):
     path = tmp_path / "predictor.json"
     path.write_text(json.dumps(predictor))
-    r = _cli("predict", "--ftu", "5 MPa", "--ftj", "0.3 MPa", "--sv", "0.2 MPa", "--study", str(path))
+    r = _cli("predict", str(path), "f_tu=5 MPa", "f_tj=0.3 MPa", "sigma_v=0.2 MPa")
     assert r.returncode == 0, r.stderr
     assert "governing: joint failure" in r.stdout and "95 % prediction interval" in r.stdout
-    r = _cli("predict", "--ftu", "5", "--ftj", "0.3 MPa", "--sv", "0.2 MPa", "--study", str(path))
+    r = _cli("predict", str(path), "f_tu=5", "f_tj=0.3 MPa", "sigma_v=0.2 MPa")
     assert r.returncode == 2 and "did you mean 5 MPa?" in r.stderr
-    r = _cli("predict", "--ftu", "5 MPa", "--ftj", "0.3 MPa", "--sv", "0", "--study", str(tmp_path / "none.json"))
-    assert r.returncode == 2 and "--study" in r.stderr
+    r = _cli("predict", str(tmp_path / "none.json"), "f_tu=5 MPa", "f_tj=0.3 MPa", "sigma_v=0")
+    assert r.returncode == 2 and "predictor" in r.stderr
 
 
 def test_predict_refuses_a_missing_or_unknown_input(predictor):
@@ -149,7 +157,8 @@ def test_predict_any_inputs_and_terms(tmp_path):
     fits, _, _ = equations.prediction_equations(ns, terms, columns)
     eq = fits["joint"][0]
     assert eq["coef"]["f_tj*sigma_v"] == pytest.approx(6.0, rel=0.02) and eq["coef"]["t"] == pytest.approx(0.02, rel=0.05)
-    p = predict.build(fits, ns, load_scene(WILLIS), "synthetic", columns, dict(t="m", f_tj="Pa", sigma_v="Pa"))
+    p = predict.build(fits, ns, build_scene(WILLIS), "synthetic", columns, dict(t="m", f_tj="Pa", sigma_v="Pa"),
+                      "synthetic")
     assert p["inputs"]["t"] == dict(unit="m", shown="mm", column="t_mm")
     got = predict.predict(p, t="12 mm", f_tj="0.5 MPa", sigma_v="0.2 MPa")
     assert got.strength_mpa == pytest.approx(0.1 + 0.24 + 0.6 + 1.5, rel=0.01)
@@ -159,11 +168,11 @@ def test_predict_any_inputs_and_terms(tmp_path):
     assert e.value.field == "t" and "did you mean 12 mm?" in e.value.reason
     path = tmp_path / "predictor.json"
     path.write_text(json.dumps(p))
-    r = _cli("predict", "--input", "t=12 mm", "--input", "f_tj=0.5 MPa", "--sv", "0.2 MPa", "--study", str(path))
+    r = _cli("predict", str(path), "t=12 mm", "f_tj=0.5 MPa", "sigma_v=0.2 MPa")
     assert r.returncode == 0, r.stderr
     assert "t 12 mm, f_tj 0.5 MPa, sigma_v 0.2 MPa" in r.stdout
-    r = _cli("predict", "--input", "t=12", "--input", "f_tj=0.5 MPa", "--sv", "0.2 MPa", "--study", str(path))
-    assert r.returncode == 2 and "--input t" in r.stderr and "did you mean 12 mm?" in r.stderr
+    r = _cli("predict", str(path), "t=12", "f_tj=0.5 MPa", "sigma_v=0.2 MPa")
+    assert r.returncode == 2 and "t: " in r.stderr and "did you mean 12 mm?" in r.stderr
 
 
 def test_predict_builds_the_wallette_of_the_brick_it_is_given():
@@ -172,7 +181,7 @@ def test_predict_builds_the_wallette_of_the_brick_it_is_given():
     as built (6 H + 5 t), its thickness W and its shear span 1.1458 (L + t)
     (config/scenes/geometry.yaml); a scene that gives its section and
     absolute spans keeps them."""
-    from masonrydem.inputs import read_scene
+    from masonrydem.specimen.files import read_scene
     geometry = "config/scenes/geometry.yaml"
     p = {"inputs": {"L": dict(unit="m", shown="mm", setting="geometry.unit.length"),
                     "H": dict(unit="m", shown="mm", setting="geometry.unit.height"),
@@ -182,7 +191,7 @@ def test_predict_builds_the_wallette_of_the_brick_it_is_given():
     x = dict(L=215.0, H=65.0, W=102.5, t=10.0, f_tj=0.3)        # the UK brick
     for scene, b, a in ((geometry, 6 * 0.065 + 5 * 0.010, 275 / 240 * 0.225), (WILLIS, 0.44, 0.275)):
         raw = read_scene(scene).get("loading", {}).get("bending", {})
-        p["wallette"] = predict.build({}, pd.DataFrame(), load_scene(scene), "s", {}, {}, {}, raw)["wallette"]
+        p["wallette"] = predict.build({}, pd.DataFrame(), build_scene(scene), "s", {}, {}, "v", {}, raw)["wallette"]
         w = predict.wallette_at(p, x)
         assert w["section_height_m"] == pytest.approx(b, rel=1e-12) and w["shear_span_m"] == pytest.approx(a, rel=1e-12)
         assert w["thickness_m"] == pytest.approx(0.1025) and w["unit_mm"] == pytest.approx([215.0, 65.0, 102.5])

@@ -1,10 +1,10 @@
-"""The geometry study's held-out formats (formats.py): each format's brick
+"""The geometry study's held-out formats (analysis/brick_formats.py): each format's brick
 read from its study, and a predictor scored on runs it generated itself."""
 import numpy as np
 import pandas as pd
 import pytest
 
-from masonrydem import formats as F
+from masonrydem.analysis import brick_formats as F
 
 
 @pytest.mark.parametrize("study,brick", [
@@ -14,7 +14,8 @@ from masonrydem import formats as F
     ("config/studies/willis.yaml", dict(L=230.0, H=65.0, W=114.0, t=10.0)),
 ])
 def test_a_format_is_its_study_s_brick(study, brick):
-    assert F.format_geometry(study) == pytest.approx(brick, rel=1e-12)
+    geometry, variant = F.format_of(study)
+    assert geometry == pytest.approx(brick, rel=1e-12) and variant == "nonspatial"
 
 
 PREDICTOR = {
@@ -22,6 +23,7 @@ PREDICTOR = {
               "brick": {"intercept": 0.2, "coef": {"f_tu": 0.5}}},
     "inputs": {"f_tj": {"column": "f_tj_mpa"}, "f_tu": {"column": "f_tu_mpa"}, "sigma_v": {"column": "sigma_v_mpa"},
                "L": {"column": "L_mm"}, "H": {"column": "H_mm"}, "t": {"column": "t_mm"}},
+    "variant": "nonspatial",
 }
 
 
@@ -42,15 +44,15 @@ def test_a_predictor_scores_zero_on_the_runs_it_made_and_its_bias_when_they_are_
     by the predictor score MAPE 0 and every mode right; runs 10 % stronger,
     MAPE 100 (1 - 1/1.1) % and bias -9.09 %."""
     uk = dict(L=215.0, H=65.0, W=102.5, t=10.0)
-    s = F.scores(_runs(200, uk, 1), PREDICTOR, uk)
+    s = F.scores(_runs(200, uk, 1), PREDICTOR, uk, "nonspatial")
     assert s["runs"] == 200 and s["mape_pct"] == pytest.approx(0.0, abs=1e-9) and s["mode_agreement"] == 1.0
-    s = F.scores(_runs(200, uk, 1, error=0.1), PREDICTOR, uk)
+    s = F.scores(_runs(200, uk, 1, error=0.1), PREDICTOR, uk, "nonspatial")
     assert s["mape_pct"] == pytest.approx(100 * (1 - 1 / 1.1)) and s["bias_pct"] == pytest.approx(-100 / 11)
     # the in-sample runs carry their own brick in columns; a format with a predictor of its own is scored by both
     fitted = _runs(50, uk, 2).assign(L_mm=uk["L"], H_mm=uk["H"], t_mm=uk["t"])
     df = dict(L=240.0, H=52.0, W=115.0, t=12.0)
-    t = F.held_out_table(PREDICTOR, {"uk": (_runs(40, uk, 3), uk, None), "df": (_runs(40, df, 4), df, PREDICTOR)},
-                         fitted)
+    t = F.held_out_table(PREDICTOR, {"uk": (_runs(40, uk, 3), uk, "nonspatial", None),
+                                     "df": (_runs(40, df, 4), df, "nonspatial", PREDICTOR)}, fitted)
     assert t.format.tolist() == ["fitted (in sample)", "uk", "df"] and (t.mape_pct.abs() < 1e-9).all()
     assert np.isnan(t.own_mape_pct[1]) and t.own_mape_pct[2] == pytest.approx(0.0, abs=1e-9)
     text = F.caption_values(t, ["joint failure: ..."])["lines"]

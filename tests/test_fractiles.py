@@ -6,8 +6,10 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from masonrydem import fractiles as F
-from masonrydem.analysis import SIGMA_V
+from masonrydem.analysis import fractiles as F
+from masonrydem.analysis.statistics import Level
+
+SIGMA_V = Level("sigma_v_mpa", "sigma_v", "MPa")     # a swept level for the constructed runs
 
 MU, SIGMA = np.log(1.5), 0.3          # a lognormal strength: median 1.5 MPa, COV about 0.31
 EXACT = np.exp(MU + stats.norm.ppf(0.05) * SIGMA)

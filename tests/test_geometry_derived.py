@@ -2,9 +2,9 @@
 so that a scene with other bricks or courses gets its own strength."""
 import pytest
 
-from masonrydem.inputs import read_scene
-from masonrydem.scene import validate_scene
-from masonrydem.specimen import build
+from masonrydem.specimen.files import read_scene
+from masonrydem.specimen.scene import validate_scene
+from masonrydem.specimen.build import build
 
 WILLIS = "config/scenes/willis.yaml"
 

@@ -8,9 +8,9 @@ import pandas as pd
 import pytest
 import yaml
 
-from masonrydem import analysis as A
-from masonrydem import equations as E
-from masonrydem import validation as V
+from masonrydem.analysis import statistics as A
+from masonrydem.analysis import equations as E
+from masonrydem.analysis import validation as V
 
 
 def test_interval_of_a_mean_matches_normal_theory():
@@ -60,35 +60,35 @@ def _runs(n=40, seed=0, levels=(0.0, 0.25, 0.5)):
     return runs
 
 
-def test_the_resampled_statistics_at_the_sample_itself_are_the_tables():
+def test_the_resampled_statistics_at_the_sample_itself_are_the_tables(level, inputs):
     """The vectorised statistics behind the intervals (masked arrays over
     sample x level), evaluated at the sample itself, give the tables of
     ``statistics``, ``correlations`` and ``increase`` (pandas group-bys):
     two implementations, one answer."""
     runs = _runs()
-    levels, d = A._wide(runs, "nonspatial", A.INPUTS, A.SIGMA_V)
+    levels, d = A._wide(runs, "nonspatial", inputs, level)
     s = {k: v[0] for k, v in A._sample_statistics(d, np.arange(d["P"].shape[0])[None]).items()}
-    st = A.statistics(runs).set_index(["mode", "sigma_v_mpa"])
-    co = A.correlations(runs).set_index(["mode", "sigma_v_mpa"])
-    inc = A.increase(A.statistics(runs)).set_index("mode")
+    st = A.statistics(runs, level).set_index(["mode", "sigma_v_mpa"])
+    co = A.correlations(runs, inputs, level).set_index(["mode", "sigma_v_mpa"])
+    inc = A.increase(A.statistics(runs, level), 0.0, 0.5, level).set_index("mode")
     for i, mode in enumerate(A.MODES):
         for j, sv in enumerate(levels):
             assert s["mean"][i, j] == pytest.approx(st.loc[(mode, sv), "P_max_mean_kN"], rel=1e-12)
             assert s["cov"][i, j] == pytest.approx(st.loc[(mode, sv), "P_max_cov"], rel=1e-12)
             assert s["strength"][i, j] == pytest.approx(st.loc[(mode, sv), "strength_mean_mpa"], rel=1e-12)
             assert s["share"][j] == pytest.approx(st.loc[(mode, sv), "brick_share"], rel=1e-12)
-            assert s["r"][i, j] == pytest.approx(co.loc[(mode, sv), list(A.INPUTS)].to_numpy(float), rel=1e-10)
+            assert s["r"][i, j] == pytest.approx(co.loc[(mode, sv), list(inputs)].to_numpy(float), rel=1e-10)
         assert s["increase"][i] == pytest.approx(inc.loc[mode, "increase"], rel=1e-12)
 
 
-def test_intervals_hold_the_estimates_and_resample_whole_samples():
+def test_intervals_hold_the_estimates_and_resample_whole_samples(level, inputs):
     """Every interval holds its estimate.  Whole samples are resampled:
     with each sample's P_max the same at every level, the mean's increase
     is 0 in every resample, so its interval is [0, 0] (resampling runs one
     by one would spread it)."""
     runs = _runs()
-    st, co, inc = A.study_tables(runs, resamples=500, seed=0)
-    for table, cols in ((st, ("P_max_mean_kN", "P_max_cov", "strength_mean_mpa", "brick_share")), (co, A.INPUTS),
+    st, co, inc = A.study_tables(runs, 500, 0, inputs, level)
+    for table, cols in ((st, ("P_max_mean_kN", "P_max_cov", "strength_mean_mpa", "brick_share")), (co, inputs),
                         (inc, ("increase",))):
         for col in cols:
             assert table[col].notna().all()
@@ -96,12 +96,12 @@ def test_intervals_hold_the_estimates_and_resample_whole_samples():
     flat = runs.copy()
     flat["P_max_kN"] = flat.groupby("sample").P_max_kN.transform("first")
     flat["ok"] = True
-    _, _, inc = A.study_tables(flat, resamples=200, seed=0)
+    _, _, inc = A.study_tables(flat, 200, 0, inputs, level)
     row = inc.set_index("mode").loc["all"]
     assert row.increase_lo == pytest.approx(0.0, abs=1e-12) and row.increase_hi == pytest.approx(0.0, abs=1e-12)
 
 
-def test_equation_intervals_hold_the_true_coefficients():
+def test_equation_intervals_hold_the_true_coefficients(willis, columns):
     """Strengths built from a known equation plus noise (SD 0.02 MPa): the
     intervals of the refitted Lasso hold the true intercept, f_tj and
     sigma_v coefficients, and the f_tj interval is as wide as least squares
@@ -112,23 +112,24 @@ def test_equation_intervals_hold_the_true_coefficients():
     runs["failure_mode"] = "joint"
     runs["strength_mpa"] = 0.2 + 4.0 * runs.f_tj_mpa + 3.0 * runs.sigma_v_mpa + rng.normal(0, 0.02, len(runs))
     ok = runs[runs.ok]
-    ci = E.equation_intervals(ok, resamples=200, seed=0).set_index("mode").loc["joint"]
+    ci = E.equation_intervals(ok, willis.features, columns, resamples=200, seed=0).set_index("mode").loc["joint"]
     for term, true in (("intercept", 0.2), ("f_tj", 4.0), ("sigma_v", 3.0)):
         assert ci[f"{term}_lo"] <= true <= ci[f"{term}_hi"], (term, ci[f"{term}_lo"], ci[f"{term}_hi"])
-    X = np.column_stack([np.ones(len(ok)), E.features(E.inputs_of(ok))])
+    X = np.column_stack([np.ones(len(ok)), E.features(E.inputs_of(ok, columns), willis.features)])
     se = 0.02 * np.sqrt(np.linalg.inv(X.T @ X)[2, 2])
     assert 1 / 1.5 < (ci["f_tj_hi"] - ci["f_tj_lo"]) / (2 * 1.96 * se) < 1.5
 
 
-def test_equation_intervals_do_not_depend_on_the_number_of_processes():
+def test_equation_intervals_do_not_depend_on_the_number_of_processes(willis, columns):
     """The refits of the bootstrap are deterministic: on two processes, in
     blocks, they give the intervals of one process to the last bit, and the
     progress reaches every resample."""
     runs = _runs(n=30, seed=5)
     ok = runs[runs.ok]
     seen = []
-    one = E.equation_intervals(ok, resamples=30, seed=3)
-    two = E.equation_intervals(ok, resamples=30, seed=3, jobs=2, block=12, progress=lambda k, n: seen.append((k, n)))
+    one = E.equation_intervals(ok, willis.features, columns, resamples=30, seed=3)
+    two = E.equation_intervals(ok, willis.features, columns, resamples=30, seed=3, jobs=2, block=12,
+                               progress=lambda k, n: seen.append((k, n)))
     pd.testing.assert_frame_equal(one, two, check_exact=True)
     assert seen == [(12, 30), (24, 30), (30, 30)]
 
@@ -139,18 +140,20 @@ def paper():
         return yaml.safe_load(f)
 
 
-def test_the_paper_equation_scores_zero_on_runs_it_generated(paper):
+def test_the_paper_equation_scores_zero_on_runs_it_generated(paper, willis, columns, level, inputs, spec):
     """Runs whose strengths are the paper's Eq. 10 itself: the scorecard
     finds the paper's equation with MAPE 0 and bias 0 on them, and says the
     paper's mean lies inside an interval that holds it."""
     runs = _runs(n=30, seed=4)
     for mode in ("joint", "brick"):
         sel = runs.failure_mode == mode
-        runs.loc[sel, "strength_mpa"] = E.predict(V.paper_equation(paper, mode), E.inputs_of(runs[sel]))
-    stats, _, inc = A.study_tables(runs, resamples=100, seed=0)
-    _, rows, _ = E.prediction_equations(runs[runs.ok])
-    eqs = pd.DataFrame(rows).merge(E.equation_intervals(runs[runs.ok], 50, 0), on="mode", how="left")
-    card = V.paper_comparison(paper, runs, stats, inc, eqs, resamples=100, seed=0)
+        runs.loc[sel, "strength_mpa"] = E.predict(V.paper_equation(paper, mode, willis.features),
+                                                  E.inputs_of(runs[sel], columns))
+    stats, _, inc = A.study_tables(runs, 100, 0, inputs, level)
+    _, rows, _ = E.prediction_equations(runs[runs.ok], willis.features, columns)
+    eqs = pd.DataFrame(rows).merge(E.equation_intervals(runs[runs.ok], willis.features, columns, 50, 0), on="mode",
+                                   how="left")
+    card = V.paper_comparison(paper, runs, stats, inc, eqs, spec, resamples=100, seed=0)
     eq10 = card[card.item.str.startswith("Eq. 10 on our runs")].set_index(["item", "mode"])
     for mode in ("joint", "brick"):
         assert eq10.loc[("Eq. 10 on our runs: MAPE (%)", mode), "ours"] == pytest.approx(0.0, abs=1e-9)

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from masonrydem import InputError, JointProps, MohrCoulomb
-from masonrydem import kernels as K
-from masonrydem.kernels.joints import _JOINT_LAWS
-from masonrydem.kernels.zones import mohr_coulomb_elastic, zone_mohr_coulomb
-from masonrydem.laws import BLOCK_MODELS, JOINT_LAWS
-from masonrydem.scene import SCHEMA
+from masonrydem.dem import kernels as K
+from masonrydem.dem.kernels.joints import _JOINT_LAWS
+from masonrydem.dem.kernels.zones import mohr_coulomb_elastic, zone_mohr_coulomb
+from masonrydem.dem.laws import BLOCK_MODELS, JOINT_LAWS
+from masonrydem.specimen.scene import SCHEMA
 
 pytestmark = pytest.mark.verification
 

@@ -4,11 +4,16 @@ import numpy as np
 import pytest
 
 from masonrydem import Elastic, InputError, JointProps, Model, MohrCoulomb
-from masonrydem import kernels as K
-from masonrydem.scene import validate_scene
-from masonrydem.solver import Controls, Numerics, init
-from masonrydem.specimen import build
-from masonrydem.stops import Stops, run
+from masonrydem.dem import kernels as K
+from masonrydem.specimen.scene import build_scene
+from masonrydem.dem.solver import Controls, Numerics, init
+from masonrydem.specimen.build import build
+from masonrydem.dem.stops import Stops, run
+
+# the quasi-static integration these tests were written at (local damping 0.8)
+QS = Numerics(damping=0.8, safety=0.9)
+
+WILLIS = "config/scenes/willis.yaml"
 
 JP = JointProps(kn=1e11, ks=4e10, ft=0.3e6, c=0.36e6, phi=35.0, GI=9.0, GII=90.0)
 
@@ -21,8 +26,8 @@ def test_wallette_joints_and_areas(cells):
     sub-contact areas sum to its overlap area exactly (1e-12), also where
     the meshes do not conform (3, 5 or 7 cells along a unit shifted by half a
     unit), and the total is 18 x 75 x 114 + 5 x 840 x 114 mm^2."""
-    b = build(validate_scene({"name": "t", "physics": {"blocks": "elasto-plastic"},
-                              "numerics": {"cells": list(cells), "subcontact_refine": 1}})).assembly
+    b = build(build_scene(WILLIS, settings={"physics.blocks": "elasto-plastic", "numerics.cells": list(cells),
+                                            "numerics.subcontact_refine": 1})).assembly
     head = [c for c in b.contacts if c.axis == 0]
     bed = [c for c in b.contacts if c.axis == 2]
     assert len(head) == 18 and len(bed) == 35
@@ -56,7 +61,7 @@ def _two_block_compression(cells_low, refine):
     m.fix(base[np.argmin(np.linalg.norm(x[base] - [0.24, 0, 0], axis=1))], dofs=[1])
     p = 0.4e6
     m.add_pressure(2, 0.15, +1, ((-1, 1), (-1, 1)), p)
-    state = init(m.build())
+    state = init(m.build(), QS)
     state, _, end = run(state, 300_000, Stops(ratio_tol=1e-11))
     assert end.status == "converged"
     return np.abs(state.joints.state[:, K.JS_SN] / -p - 1).max(), np.abs(state.zones.stress[:, 2] / -p - 1).max()
@@ -110,7 +115,7 @@ def test_bad_joint_refused_at_build(props, field):
     m.add_box([0, 0, 0.1], [0.1, 0.1, 0.2], 1, Elastic(1e9, 0.2))
     m.set_joints("coupled_softening", props)
     with pytest.raises(InputError, match=rf"joints\[0\].*\.{field}"):
-        init(m.build())
+        init(m.build(), QS)
 
 
 def _dynamic_block():
@@ -123,10 +128,10 @@ def _dynamic_block():
 def test_time_step_above_critical_refused():
     """dt above the critical step 2 min sqrt(m/k) is refused at set-up;
     0.9 of it is accepted."""
-    crit = init(_dynamic_block().build(), Numerics(mode="dynamic")).integrator.dt_crit
+    crit = init(_dynamic_block().build(), Numerics(mode="dynamic", safety=0.9)).integrator.dt_crit
     with pytest.raises(InputError, match="solver.dt"):
-        init(_dynamic_block().build(), Numerics(mode="dynamic", dt=1.01 * crit))
-    assert init(_dynamic_block().build(), Numerics(mode="dynamic", dt=0.9 * crit)).integrator.dt == 0.9 * crit
+        init(_dynamic_block().build(), Numerics(mode="dynamic", dt=1.01 * crit, safety=0.9))
+    assert init(_dynamic_block().build(), Numerics(mode="dynamic", dt=0.9 * crit, safety=0.9)).integrator.dt == 0.9 * crit
 
 
 def test_divergence_guard_names_the_node():
@@ -136,7 +141,7 @@ def test_divergence_guard_names_the_node():
     m = _dynamic_block()
     top = m.select(lambda x: x[:, 2] > 0.1 - 1e-9)
     m.add_force(top, [0, 0, -100.0])
-    state = init(m.build(), Numerics(mode="dynamic"))
+    state = init(m.build(), Numerics(mode="dynamic", safety=0.9))
     state = state._replace(integrator=state.integrator._replace(dt=3.0 * state.integrator.dt_crit))
     state, _, res = run(state, 100_000)
     assert res.status == "diverged"
@@ -151,7 +156,7 @@ def test_velocity_ramp_displacement():
     m = _dynamic_block()
     top = m.select(lambda x: x[:, 2] > 0.1 - 1e-9)
     m.fix(top, dofs=[2], velocity=1e-6)
-    state = init(m.build())
+    state = init(m.build(), QS)
     N, T = 300, 1000
     state, _, _ = run(state, T, controls=Controls(ramp_steps=N))
     assert state.nodes.u[top, 2] == pytest.approx(1e-6 * (T - N + (N + 1) / 2), rel=1e-12)
@@ -171,7 +176,7 @@ def test_large_rotation_stops_the_run():
     vel = omega * np.column_stack([-(x[:, 1] - 0.05), x[:, 0] - 0.05, 0 * x[:, 0]])
     for nd in range(x.shape[0]):
         m.fix([nd], dofs=(0, 1, 2), velocity=vel[nd])
-    state = init(m.build(), Numerics(rotation_limit=0.05))
+    state = init(m.build(), Numerics(rotation_limit=0.05, damping=0.8, safety=0.9))
     state, _, res = run(state, 100_000, chunk=10)
     assert res.status == "large_displacement"
     assert 0.05 < omega * res.steps <= 0.05 + omega * 200 + 1e-12
@@ -208,9 +213,9 @@ def test_joint_forces_gathered_per_node_add_what_a_scatter_adds():
     bit, on a wallette whose faces do not match node for node."""
     from numba import njit
 
-    from masonrydem.kernels.joints import gather_forces
-    sc = build(validate_scene({"name": "t", "physics": {"blocks": "elasto-plastic"},
-                               "numerics": {"cells": [5, 2, 3], "subcontact_refine": 1}})).assembly.joints
+    from masonrydem.dem.kernels.joints import gather_forces
+    sc = build(build_scene(WILLIS, settings={"physics.blocks": "elasto-plastic", "numerics.cells": [5, 2, 3],
+                                             "numerics.subcontact_refine": 1})).assembly.joints
     rng = np.random.default_rng(1)
     force = rng.standard_normal(sc.force.shape)
     f0 = rng.standard_normal((sc.gptr.size - 1, 3))

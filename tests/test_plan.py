@@ -1,10 +1,11 @@
-"""The workflow's plan (masonrydem.plan): run ids and the scene overrides of
+"""The workflow's plan (masonrydem.pipeline.plan): run ids and the scene overrides of
 each simulation job, from small configs with known answers and from the
 project's own config."""
 import pytest
 import yaml
 
-from masonrydem import InputError, plan
+from masonrydem import InputError
+from masonrydem.pipeline import plan
 
 NUMERICS = ["numerics.cells=[8, 6, 2]", "numerics.subcontact_refine=1", "loading.bending.rate=2.5e-8"]
 ACCURACY = dict(
@@ -177,24 +178,23 @@ def test_the_projects_config_plans_its_accuracy_study():
     the damping pinned (0.8): the references (the path levels and the runs
     around one, 45) are the same computation whatever the defaults, and
     the coarsest level of each case is rerun to check their table."""
-    from masonrydem.scene import load_scene
+    from masonrydem.specimen.scene import build_scene
     config = yaml.safe_load(open("config/config.yaml"))
     runs = plan.accuracy_runs(config)
     assert len(runs) == 181 and len(set(runs)) == 181
-    knee = load_scene(config["scene"], plan.accuracy_overrides(config, "mixed_sv05", "pc_c4x3x2_head_rate15"))
+    knee = build_scene(config["scene"], plan.accuracy_overrides(config, "mixed_sv05", "pc_c4x3x2_head_rate15"))
     assert knee.numerics.damping == 0.4 and knee.loading.drive.rate == 1.125e-7
-    former = load_scene(config["scene"], plan.accuracy_overrides(config, "mixed_sv05", "pc_c4x3x2_head_d08_half"))
+    former = build_scene(config["scene"], plan.accuracy_overrides(config, "mixed_sv05", "pc_c4x3x2_head_d08_half"))
     assert former.numerics.damping == 0.8 and former.loading.drive.rate == 3.75e-8
-    from masonrydem.accuracy import reference_checks, reference_runs
-    references = reference_runs(config)
+    references = plan.reference_runs(config)
     assert len(references) == 45 and set(references) <= set(runs)
     assert all(s.startswith("path_") for c, s in references)
-    assert reference_checks(config) == [(c, "path_c7x3x2") for c in plan.accuracy_cases(config)]
+    assert plan.reference_checks(config) == [(c, "path_c7x3x2") for c in plan.accuracy_cases(config)]
     for case, setting in references:
-        assert load_scene(config["scene"], plan.accuracy_overrides(config, case, setting)).numerics.damping == 0.8
+        assert build_scene(config["scene"], plan.accuracy_overrides(config, case, setting)).numerics.damping == 0.8
     assert {s for c, s in runs if c == "joint_sv0"} >= {"path_c17x8x6", "pc_c6x3x2_r121", "default", "rate_1.5e-07"}
     assert ("joint_sv05", "ratio_tol_1e-05") in runs and ("joint_sv0", "ratio_tol_1e-05") not in runs
-    joint = load_scene(config["scene"], plan.accuracy_overrides(config, "joint_sv0", "path_c17x8x6"))
+    joint = build_scene(config["scene"], plan.accuracy_overrides(config, "joint_sv0", "path_c17x8x6"))
     assert joint.loading.drive.rate == 2.5e-8 and joint.physics.blocks == "elasto-plastic"
     o = plan.accuracy_overrides(config, "brick_sv0", "path_c17x8x6")
     assert "loading.bending.rate=1.25e-8" in o and "physics.blocks=elasto-plastic" in o

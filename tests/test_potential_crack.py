@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 from scipy.integrate import trapezoid
 
-from masonrydem import kernels as K
-from masonrydem.protocol import simulate
-from masonrydem.scene import load_scene
-from masonrydem.specimen import build
+from masonrydem.dem import kernels as K
+from masonrydem.specimen.protocol import simulate
+from masonrydem.specimen.scene import build_scene
+from masonrydem.specimen.build import build
 
 WILLIS = "config/scenes/willis.yaml"
 TENSION = "config/scenes/tension.yaml"
@@ -24,7 +24,7 @@ def test_every_unit_gives_its_crack_interface_its_own_properties():
     G_II = 10 G_fu: computed here from the scene's inputs, unit by unit."""
     rng = np.random.default_rng(0)
     E, ft = rng.uniform(5e9, 25e9, 24), rng.uniform(2e6, 6e6, 24)
-    sp = build(load_scene(WILLIS, [f"materials.per_unit.E={E.tolist()}", f"materials.per_unit.ft={ft.tolist()}",
+    sp = build(build_scene(WILLIS, [f"materials.per_unit.E={E.tolist()}", f"materials.per_unit.ft={ft.tolist()}",
                                    "materials.units.Gf_rule={coefficient: 0.04, exponent: 0.7}"]))
     par, seen = sp.assembly.joints.par, set()
     for c, j in zip(sp.assembly.contacts, sp.contact_joint):
@@ -47,7 +47,7 @@ def _single_unit(*extra):
     """One potential-crack unit pulled apart along its length (direct
     tension of one course of one unit: no mortar joint in the load path),
     to full separation, recorded at every step."""
-    return load_scene(TENSION, ["geometry.courses=1", "geometry.units_per_course=1", "physics.blocks=potential-crack",
+    return build_scene(TENSION, ["geometry.courses=1", "geometry.units_per_course=1", "physics.blocks=potential-crack",
                                 "numerics.cells=[2, 1, 1]", "numerics.elastic_element=hex8i",
                                 "numerics.record_every=1", "loading.tension.load_drop=0.001",
                                 "loading.tension.max_displacement=2.0e-3",
@@ -93,7 +93,7 @@ def test_the_crack_plane_lies_in_line_with_the_next_courses_head_joints(bond):
     courses and three quarters in the shifted ones (at half bond both are
     the middle).  Checked on the blocks built, against the courses' own
     joint lines."""
-    sp = build(load_scene(WILLIS, [f"geometry.bond_offset={bond}"]))
+    sp = build(build_scene(WILLIS, [f"geometry.bond_offset={bond}"]))
     a, g = sp.assembly, sp.scene.geometry
     L = g.modelled_unit[0]
     lines = {k: g.course_span(k)[0] + L * np.arange(g.units_per_course + 1) for k in range(g.courses)}

@@ -6,7 +6,11 @@ import pandas as pd
 import pytest
 from sklearn.linear_model import Lasso
 
-from masonrydem import equations as E
+from masonrydem.analysis import equations as E
+
+# the terms and the inputs' columns of the constructed runs below
+TERMS = ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v")
+COLUMNS = {"f_tj": "f_tj_mpa", "f_tu": "f_tu_mpa", "sigma_v": "sigma_v_mpa"}
 
 LEVELS = np.array([0.0, 0.075, 0.15, 0.25, 0.5])
 
@@ -38,10 +42,10 @@ def test_lasso_against_least_squares_within_its_optimality_bound():
     features standardised by hand) gives the same coefficients."""
     f_tu, f_tj, sv, sample = _samples(3, 60)
     y = 0.4 + 2.0 * f_tj + 0.05 * f_tu ** 2 + 0.9 * sv + np.random.default_rng(4).normal(0, 0.01, sv.size)
-    eq = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y, sample)
+    eq = E.fit_equation(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), y, sample, TERMS)
     alpha = eq["alpha"]
-    Z, mean, scale = _standardised(E.features(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv)))
-    b = np.array([eq["coef"][k] for k in E.FEATURES]) * scale
+    Z, mean, scale = _standardised(E.features(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), TERMS))
+    b = np.array([eq["coef"][k] for k in TERMS]) * scale
     b0 = eq["intercept"] + np.sum(b / scale * mean)
     g = Z.T @ (y - b0 - Z @ b) / len(y)
     active = b != 0
@@ -71,7 +75,7 @@ def test_the_penalty_and_coefficients_are_lasso_cvs(law):
     noise = np.random.default_rng(8).normal(0, 0.05, sv.size)
     y = {"joint": 0.2 + 3.0 * f_tj + 1.1 * sv + noise, "brick": 0.3 + 0.4 * f_tu - 0.01 * f_tu ** 2 + noise,
          "noise": 1.0 + noise}[law]
-    X = E.features(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv))
+    X = E.features(dict(f_tu=f_tu, f_tj=f_tj, sigma_v=sv), TERMS)
     cv = list(GroupKFold(5).split(X, y, sample))
     ref = make_pipeline(StandardScaler(), LassoCV(cv=cv, max_iter=10_000_000, tol=1e-12)).fit(X, y)[1]
     fit = E._lasso(X, y, sample)
@@ -103,7 +107,7 @@ def test_each_mode_gets_its_own_equation():
     mode's equation recovers its own law (fitted MAPE below 0.5 %), not a
     mixture of the two (which would miss both by several per cent)."""
     ns = _runs(JOINT, BRICK, 12, 12)
-    fits, rows, _ = E.prediction_equations(ns)
+    fits, rows, _ = E.prediction_equations(ns, TERMS, COLUMNS)
     assert set(fits) == {"joint", "brick"}
     for mode, law in (("joint", JOINT), ("brick", BRICK)):
         g = ns[ns.failure_mode == mode]
@@ -121,7 +125,7 @@ def test_the_lower_of_two_row_scored_by_hand():
     simulated one) and residual SD (of simulated minus predicted, ddof 1)
     are those computed here by hand over every run."""
     ns = _runs(JOINT, BRICK, 10, 9)
-    fits, rows, resid_sd = E.prediction_equations(ns)
+    fits, rows, resid_sd = E.prediction_equations(ns, TERMS, COLUMNS)
     j = E.predict(fits["joint"][0], dict(f_tu=ns.f_tu_mpa, f_tj=ns.f_tj_mpa, sigma_v=ns.sigma_v_mpa))
     b = E.predict(fits["brick"][0], dict(f_tu=ns.f_tu_mpa, f_tj=ns.f_tj_mpa, sigma_v=ns.sigma_v_mpa))
     low = np.where(j <= b, j, b)
@@ -139,7 +143,7 @@ def test_a_mode_with_too_few_samples_is_not_fitted_and_the_other_stands_for_both
     equation, a row saying why, and the joint equation alone scores every
     run, the brick runs included."""
     ns = _runs(JOINT, BRICK, 10, 6)
-    fits, rows, resid_sd = E.prediction_equations(ns)
+    fits, rows, resid_sd = E.prediction_equations(ns, TERMS, COLUMNS)
     table = pd.DataFrame(rows).set_index("mode")
     assert set(fits) == {"joint"}
     assert table.loc["brick", "n"] == 30 and "too few runs to fit (6 samples" in table.loc["brick", "equation"]
@@ -150,7 +154,7 @@ def test_a_mode_with_too_few_samples_is_not_fitted_and_the_other_stands_for_both
 
 
 def test_no_mode_with_enough_samples_fits_nothing():
-    fits, rows, resid_sd = E.prediction_equations(_runs(JOINT, BRICK, 6, 6))
+    fits, rows, resid_sd = E.prediction_equations(_runs(JOINT, BRICK, 6, 6), TERMS, COLUMNS)
     assert fits == {} and np.isnan(resid_sd) and [r["mode"] for r in rows] == ["joint", "brick"]
 
 
@@ -166,7 +170,7 @@ def test_the_folds_hold_whole_samples(monkeypatch):
 
     monkeypatch.setattr(E, "fit_equation", spy)
     ns = _runs(JOINT, BRICK, 8, 8).sample(frac=1.0, random_state=0)        # rows shuffled
-    E.prediction_equations(ns)
+    E.prediction_equations(ns, TERMS, COLUMNS)
     for k, mode in enumerate(("joint", "brick")):
         g = ns[ns.failure_mode == mode]
         np.testing.assert_array_equal(seen[k][0], g["sample"].to_numpy())

@@ -1,9 +1,22 @@
 """Latin Hypercube sampling of the study's random variables (docs/study.md, 6-7)."""
 import numpy as np
 import pytest
-from masonrydem.sampling import STUDY_VARIABLES, lhs, study_samples
+from conftest import willis_study
 
-NAMES = [v.name for v in STUDY_VARIABLES]
+from masonrydem.study import sampling
+
+STUDY = willis_study()      # the Willis study's variables and correlation (config/studies/willis.yaml)
+VARIABLES, CORRELATIONS = STUDY.variables, STUDY.correlations
+NAMES = [v.name for v in VARIABLES]
+
+
+def lhs(n, seed):
+    return sampling.lhs(n, VARIABLES, CORRELATIONS, seed)
+
+
+def study_samples(n, seed):
+    """The study's samples of a wallette of 24 units and 38 joints."""
+    return sampling.study_samples(n, seed, 24, 38, VARIABLES, CORRELATIONS)
 
 
 @pytest.mark.parametrize("seed", range(5))
@@ -11,7 +24,7 @@ def test_one_sample_per_stratum(seed):
     """Latin Hypercube property, exact: for every variable the CDF values of
     the n samples fall one in each of the n equal strata of [0, 1)."""
     values, _ = lhs(100, seed=seed)
-    for v in STUDY_VARIABLES:
+    for v in VARIABLES:
         strata = np.floor(v.frozen().cdf(values[v.name]) * 100).astype(int)
         assert sorted(strata.tolist()) == list(range(100))
 
@@ -26,10 +39,10 @@ def test_marginals():
     central strata, but the values drawn inside the extreme strata still
     dominate the sample variance, so 25 % (about 2.5 of those errors) is
     the per-draw bound."""
-    ratios = {v.name: [] for v in STUDY_VARIABLES}
+    ratios = {v.name: [] for v in VARIABLES}
     for seed in range(10):
         values, _ = lhs(100, seed=seed)
-        for v in STUDY_VARIABLES:
+        for v in VARIABLES:
             x = values[v.name]
             assert x.mean() == pytest.approx(v.mean, rel=0.02)
             ratios[v.name].append(x.std(ddof=1) / x.mean() / v.cov)
@@ -69,7 +82,7 @@ def test_spatial_fields():
     marginals (one value per stratum)."""
     _, spatial, _ = study_samples(5, seed=3)
     assert len(spatial) == 5
-    by = {v.name: v for v in STUDY_VARIABLES}
+    by = {v.name: v for v in VARIABLES}
     for _, row in spatial.iterrows():
         for name, n in (("f_tu", 24), ("E_b", 24), ("f_tj", 38), ("phi_j", 38)):
             x = np.asarray(row[name])
@@ -95,7 +108,7 @@ def test_refining_the_correlation_only_reorders():
     """The swaps keep every value of every column (so every Latin Hypercube
     stratum) and bring a pair to its target: 24 independent lognormal
     pairs, target 0.5, end within 0.02 of it."""
-    from masonrydem.sampling import refine_correlation
+    from masonrydem.study.sampling import refine_correlation
     rng = np.random.default_rng(3)
     x = rng.lognormal(0.0, 0.3, (24, 2))
     target = np.array([[1.0, 0.5], [0.5, 1.0]])
@@ -106,8 +119,8 @@ def test_refining_the_correlation_only_reorders():
 
 
 def _field_study(length, n, rho=0.5):
-    from masonrydem.masonry import Geometry
-    from masonrydem.sampling import Variable, field_samples
+    from masonrydem.specimen.masonry import Geometry
+    from masonrydem.study.sampling import Variable, field_samples
     g = Geometry(0.230, 0.065, 0.114, 0.010, 6, 4, 0.5)
     normal = (Variable("a", "normal", 10.0, sd=2.0, per="unit"), Variable("b", "normal", 5.0, sd=1.0, per="unit"),
               Variable("j", "normal", 1.0, sd=0.5, per="joint"))
@@ -157,7 +170,7 @@ def test_item_centres_follow_the_numbering_of_units_and_joints():
     """Units course by course; the first head joint between units 0 and 1
     of course 0; the first bed plane under unit (1, 0), at the top of
     course 0; course 1 shifted by half a modelled unit (0.12 m)."""
-    from masonrydem.masonry import Geometry
+    from masonrydem.specimen.masonry import Geometry
     c = Geometry(0.230, 0.065, 0.114, 0.010, 6, 4, 0.5).item_centres()
     np.testing.assert_allclose(c["unit"][[0, 1, 4]], [[0.12, 0.0375], [0.36, 0.0375], [0.24, 0.1125]])
     np.testing.assert_allclose(c["joint"][0], [0.24, 0.0375])

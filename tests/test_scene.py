@@ -4,14 +4,14 @@ import numpy as np
 import pytest
 
 from masonrydem import InputError
-from masonrydem import kernels as K
-from masonrydem.masonry import joint_kn
-from masonrydem.scene import load_scene, validate_scene
-from masonrydem.specimen import build
+from masonrydem.dem import kernels as K
+from masonrydem.specimen.masonry import joint_kn
+from masonrydem.specimen.scene import build_scene, validate_scene
+from masonrydem.specimen.build import build
 
 WILLIS = "config/scenes/willis.yaml"
 # one block per unit (no crack interfaces), as these numbering tests count
-ONE_BLOCK_PER_UNIT = {"physics": {"blocks": "elasto-plastic"}, "numerics": {"cells": [5, 2, 2], "subcontact_refine": 1}}
+ONE_BLOCK_PER_UNIT = {"physics.blocks": "elasto-plastic", "numerics.cells": [5, 2, 2], "numerics.subcontact_refine": 1}
 
 
 def test_willis_scene_is_the_study_specimen():
@@ -19,7 +19,7 @@ def test_willis_scene_is_the_study_specimen():
     wall 1080 x 114 x 450 mm, k_n = E_b E_m/(t(E_b - E_m)) = 166.7 GPa/m,
     k_s = 0.4 k_n, shear span a = 275 mm (elastic units: the joints without
     the potential-crack units' crack interfaces)."""
-    sp = build(load_scene(WILLIS, ["physics.blocks=elastic"]))
+    sp = build(build_scene(WILLIS, ["physics.blocks=elastic"]))
     x = sp.assembly.nodes.x0[sp.assembly.block_of_node >= 0]
     assert np.ptp(x, axis=0) == pytest.approx([1.080, 0.114, 0.450])
     assert len(sp.units) == 24 and len(sp.joints) == 38
@@ -48,20 +48,20 @@ def test_willis_scene_is_the_study_specimen():
 ])
 def test_bad_scene_refused_naming_the_field(override, field):
     with pytest.raises(InputError) as e:
-        load_scene(WILLIS, [override])
+        build_scene(WILLIS, [override])
     assert e.value.field == field
 
 
 def test_overrides_parse_values():
-    sc = load_scene(WILLIS, ["materials.units.E=12e9", "numerics.cells=[3, 1, 1]", "name=x"])
-    assert np.all(sc.materials.units.E == 12e9) and sc.numerics.cells == (3, 1, 1)
+    sc = build_scene(WILLIS, ["materials.units.E=12e9", "numerics.cells=[3, 1, 1]", "name=x"])
+    assert np.all(sc.materials.units.E == 12e9) and sc.discretization.cells == (3, 1, 1)
     with pytest.raises(InputError, match="--set"):
-        load_scene(WILLIS, ["numerics.cells"])
+        build_scene(WILLIS, ["numerics.cells"])
 
 
 def test_missing_scene_file_refused():
     with pytest.raises(InputError, match="cannot read"):
-        load_scene("config/scenes/nope.yaml")
+        build_scene("config/scenes/nope.yaml")
 
 
 def test_joint_numbering_and_per_joint_values():
@@ -69,8 +69,8 @@ def test_joint_numbering_and_per_joint_values():
     unit of courses 1-5; a bed plane touching two lower units is one joint.
     Per-joint f_tj reach exactly the sub-contacts of their joint."""
     ft = np.linspace(0.1e6, 0.8e6, 38)
-    sc = validate_scene({"name": "t", **ONE_BLOCK_PER_UNIT, "materials": {"per_joint": {"ft": ft.tolist()},
-                                                                          "joints": {"GI_per_ft": 3.0e-5}}})
+    sc = build_scene(WILLIS, settings={**ONE_BLOCK_PER_UNIT, "materials.per_joint.ft": ft.tolist(),
+                                       "materials.joints.GI_per_ft": 3.0e-5})
     sp = build(sc)
     a, par = sp.assembly, sp.assembly.joints.par
     for c, j in zip(a.contacts, sp.contact_joint):
@@ -91,7 +91,7 @@ def test_joint_numbering_and_per_joint_values():
 def test_joint_stiffness_follows_mean_unit_modulus():
     """A joint's k_n uses the mean E_b of the two units it connects."""
     E = np.where(np.arange(24) % 2, 10e9, 20e9)
-    sp = build(validate_scene({"name": "t", **ONE_BLOCK_PER_UNIT, "materials": {"per_unit": {"E": E.tolist()}}}))
+    sp = build(build_scene(WILLIS, settings={**ONE_BLOCK_PER_UNIT, "materials.per_unit.E": E.tolist()}))
     par = sp.assembly.joints.par
     for c in sp.assembly.contacts:
         expected = joint_kn(0.5 * (E[c.block_a] + E[c.block_b]), 0.1, 0.01)
@@ -103,10 +103,10 @@ def test_rigid_units_refuse_a_final_state_and_build_without_zones():
     field); the wallette with rigid units builds one node per unit and the
     joints of the deformable one."""
     with pytest.raises(InputError) as e:
-        load_scene(WILLIS, ["physics.blocks=rigid", "outputs.state=true"])
+        build_scene(WILLIS, ["physics.blocks=rigid", "outputs.state=true"])
     assert e.value.field == "outputs.state"
-    rigid = build(load_scene(WILLIS, ["physics.blocks=rigid"]))
-    full = build(load_scene(WILLIS, ["physics.blocks=elastic"]))
+    rigid = build(build_scene(WILLIS, ["physics.blocks=rigid"]))
+    full = build(build_scene(WILLIS, ["physics.blocks=elastic"]))
     assert int((rigid.assembly.block_of_node >= 0).sum()) == 24 and rigid.assembly.zones.tets.shape[0] == 0
     assert len(rigid.assembly.contacts) == len(full.assembly.contacts)
     np.testing.assert_array_equal(rigid.contact_joint, full.contact_joint)
@@ -125,7 +125,7 @@ def test_precompression_force_and_where_it_acts(spreader):
     so the resultant of the whole load acts at the middle of the loaded
     span, 540 or 600 mm, whatever the mesh."""
     sigma = 0.5e6
-    sp = build(load_scene(WILLIS, [f"loading.precompression.pressure={sigma}",
+    sp = build(build_scene(WILLIS, [f"loading.precompression.pressure={sigma}",
                                    f"loading.precompression.spreader={str(spreader).lower()}"]))
     b = sp.assembly
     fz, x = b.nodes.fext[:, 2], b.nodes.x0[:, 0]
@@ -142,18 +142,46 @@ def test_a_scene_without_numerics_runs_at_the_accuracy_studys_choice(tmp_path):
     as chosen and within 2 % of every reference with the right modes.  The
     candidates next to it (config.yaml: pc_c4x3x2_r1 is the defaults with
     subcontact_refine=1) name the same cells, 4 x 3 x 2 along, through and
-    up a unit.  A scene that says nothing about its physics or numerics
-    gets exactly these."""
+    up a unit.  A scene that says nothing about its physics, numerics or
+    loading rates gets exactly these: damping 0.4 and safety 0.9, and the
+    rate 7.5e-8 m a step after a 1000-step ramp, the precompression to an
+    unbalance of 1e-3 (docs/accuracy.md)."""
     import pandas as pd
     import yaml
-    assert "numerics" not in yaml.safe_load(open(WILLIS))
+    raw = yaml.safe_load(open(WILLIS))
+    assert "numerics" not in raw
     choice = pd.read_csv("results/accuracy/choice.csv")
     chosen = choice[choice["default"]]
     assert list(chosen.setting) == ["default"]
     assert chosen.ok.item() and chosen.modes_ok.item() and chosen.max_abs_error.item() <= 0.02
-    bare = tmp_path / "bare.yaml"
-    bare.write_text("name: bare\n")
-    sc = load_scene(str(bare))
+    bare = {k: v for k, v in raw.items() if k != "physics"}
+    for key in ("rate", "ramp_steps"):
+        del bare["loading"]["bending"][key]
+    del bare["loading"]["precompression"]["ratio_tol"]
+    sc = build_scene(bare)
     assert sc.physics.blocks == "potential-crack"
-    assert sc.numerics == load_scene(WILLIS).numerics
-    assert (sc.numerics.cells, sc.numerics.elastic_element, sc.numerics.refine.head) == ((4, 3, 2), "hex8i", (1, 2, 1))
+    assert sc.discretization == build_scene(WILLIS).discretization and sc.numerics == build_scene(WILLIS).numerics
+    d = sc.discretization
+    assert (d.cells, d.elastic_element, d.refine.head) == ((4, 3, 2), "hex8i", (1, 2, 1))
+    assert (sc.numerics.damping, sc.numerics.safety) == (0.4, 0.9)
+    assert (sc.loading.drive.rate, sc.loading.drive.ramp_steps, sc.loading.precompression.ratio_tol) == (7.5e-8, 1000,
+                                                                                                          1e-3)
+
+
+def test_a_scene_must_state_its_specimen():
+    """No study's wallette is a default: a scene without its brick, its
+    materials or where its test bears is refused, naming what is missing."""
+    import yaml
+    raw = yaml.safe_load(open(WILLIS))
+    for path, field in ((("geometry", "unit"), "geometry"), (("materials", "units", "E"), "materials.units"),
+                        (("materials", "joints", "GI"), "materials.joints.GI"),
+                        (("loading", "bending", "supports_x"), "loading.bending.supports_x")):
+        bare = yaml.safe_load(open(WILLIS))
+        node = bare
+        for key in path[:-1]:
+            node = node[key]
+        del node[path[-1]]
+        with pytest.raises(InputError) as e:
+            build_scene(bare)
+        assert e.value.field == field, (path, str(e.value))
+    assert build_scene(raw).name == "willis"

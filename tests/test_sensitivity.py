@@ -5,9 +5,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from masonrydem import sensitivity as S
-from masonrydem.analysis import SIGMA_V
-from masonrydem.sampling import Variable
+from masonrydem.analysis import sensitivity as S
+from masonrydem.analysis.statistics import Level
+
+SIGMA_V = Level("sigma_v_mpa", "sigma_v", "MPa")     # a swept level for the constructed runs
+from masonrydem.study.sampling import Variable
 
 
 UNIFORMS = [Variable(f"x{k}", "uniform", bounds=(0.0, 1.0)) for k in range(1, 5)]

@@ -7,9 +7,9 @@ import pytest
 from runs import run_scene
 
 from masonrydem import InputError
-from masonrydem.masonry import joint_kn
-from masonrydem.scene import load_scene
-from masonrydem.validation import initial_stiffness
+from masonrydem.specimen.masonry import joint_kn
+from masonrydem.specimen.scene import build_scene
+from masonrydem.analysis.validation import initial_stiffness
 
 TENSION = "config/scenes/tension.yaml"
 TRIPLET = "config/scenes/triplet.yaml"
@@ -37,7 +37,7 @@ def test_stack_bonded_tension_matches_the_series_springs():
     lag is proportional to the rate and equals the unbalanced-force ratio
     at the peak (measured: +0.33 %, +0.17 %, +0.08 % at 4e-9, 2e-9 (the
     scene's rate), 1e-9 m per step)."""
-    sc = load_scene(TENSION, COARSE + ["geometry.bond_offset=0.0", "geometry.courses=2"])
+    sc = build_scene(TENSION, COARSE + ["geometry.bond_offset=0.0", "geometry.courses=2"])
     row, curve, _, _ = run_scene(sc)
     L, A = _section(sc)
     n_c, n_u = sc.geometry.courses, sc.geometry.units_per_course
@@ -61,7 +61,7 @@ def test_stack_bonded_tension_matches_the_series_springs():
 ])
 def test_triplet_peak_is_the_coulomb_strength(blocks, overrides, peak_tol):
     """Peak shear stress P / 2A = c + sigma tan(phi)."""
-    sc = load_scene(TRIPLET, COARSE + [f"physics.blocks={blocks}", "loading.triplet.max_displacement=1.0e-4"]
+    sc = build_scene(TRIPLET, COARSE + [f"physics.blocks={blocks}", "loading.triplet.max_displacement=1.0e-4"]
                     + overrides)
     row, _, _, _ = run_scene(sc)
     j, sigma = sc.materials.joints, sc.loading.precompression.pressure
@@ -75,7 +75,7 @@ def test_triplet_residual_is_friction():
     joints carry sigma tan(phi): the end of the curve.  The quasi-static
     lag grows with the rate (measured at 1 mm: +0.85 % at 1e-8 m per
     step, +0.32 % at 4e-9, +0.02 % at the scene's 2e-9)."""
-    sc = load_scene(TRIPLET, COARSE + ["loading.precompression.pressure=0.3e6"])
+    sc = build_scene(TRIPLET, COARSE + ["loading.precompression.pressure=0.3e6"])
     row, curve, _, _ = run_scene(sc)
     L, _ = _section(sc)
     j, sigma = sc.materials.joints, sc.loading.precompression.pressure
@@ -92,7 +92,7 @@ def test_a_peak_within_the_velocity_ramp_is_flagged():
     of 7.5 microns; a ramp of 2000 steps at 1e-8 m per step covers 10
     microns: the peak falls within the ramp, where a peak does not count,
     and the run must say so instead of reporting a later, lower load."""
-    sc = load_scene(TRIPLET, COARSE + ["physics.blocks=rigid", "loading.triplet.rate=1.0e-8",
+    sc = build_scene(TRIPLET, COARSE + ["physics.blocks=rigid", "loading.triplet.rate=1.0e-8",
                                        "loading.triplet.ramp_steps=2000", "loading.triplet.max_displacement=1.0e-4"])
     j, sigma = sc.materials.joints, sc.loading.precompression.pressure
     kn = joint_kn(_wall(sc.materials.units.E), j.Em_ratio, sc.geometry.joint_thickness)
@@ -110,5 +110,5 @@ def test_a_peak_within_the_velocity_ramp_is_flagged():
 ])
 def test_a_wrong_specimen_is_refused_naming_the_field(override, field):
     with pytest.raises(InputError) as e:
-        load_scene(TRIPLET, [override])
+        build_scene(TRIPLET, [override])
     assert e.value.field == field

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from masonrydem import InputError
-from masonrydem.history import PEAK_UNBALANCE, History, Peak
-from masonrydem.scene import load_scene
-from masonrydem.stops import Stops, stop_rule
+from masonrydem.dem.history import PEAK_UNBALANCE, History, Peak
+from masonrydem.specimen.scene import build_scene
+from masonrydem.dem.stops import Stops, stop_rule
 
 PEAK = Peak(load=10e3, disp=1.0e-3, step=1000, ratio=0.0, unbalance=0.0)
 RULE = Stops(disp_limit=5e-3, load_drop=0.2, monitor="load", balance="support", past_peak=(0.05, 1e-4, 2e-4))
@@ -41,11 +41,11 @@ def test_without_a_peak_or_the_rule_nothing_stops_past_it():
 
 
 def test_the_scene_setting_takes_lengths_with_units():
-    scene = load_scene("config/scenes/willis.yaml", ["loading.bending.past_peak={drop: 0.05, after: 0.1 mm, "
+    scene = build_scene("config/scenes/willis.yaml", ["loading.bending.past_peak={drop: 0.05, after: 0.1 mm, "
                                                      "at_most: 0.2 mm}"])
     assert scene.loading.drive.past_peak == (0.05, 1e-4, 2e-4)
-    assert load_scene("config/scenes/willis.yaml").loading.drive.past_peak is None
+    assert build_scene("config/scenes/willis.yaml").loading.drive.past_peak is None
     with pytest.raises(InputError) as e:       # the drop after the peak is read over 0.1 mm: it must get there
-        load_scene("config/scenes/willis.yaml", ["loading.bending.past_peak={drop: 0.05, after: 0.05 mm, "
+        build_scene("config/scenes/willis.yaml", ["loading.bending.past_peak={drop: 0.05, after: 0.05 mm, "
                                                  "at_most: 0.2 mm}"])
     assert "loading.bending.past_peak.after" in str(e.value)

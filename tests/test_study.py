@@ -2,11 +2,12 @@
 import numpy as np
 import pytest
 
-from masonrydem import kernels as K
-from masonrydem.sampling import study_samples
-from masonrydem.masonry import joint_kn
-from masonrydem.specimen import build
-from masonrydem.study import study_scene, willis_record
+from masonrydem.dem import kernels as K
+from masonrydem.study.sampling import study_samples
+from masonrydem.specimen.masonry import joint_kn
+from masonrydem.specimen.build import build
+from masonrydem.specimen.scene import build_scene
+from masonrydem.study.settings import record, settings
 
 # the source paper's elasto-plastic units, whose zones carry the unit's properties
 BASE = "config/scenes/willis.yaml"
@@ -18,13 +19,19 @@ def _pressure(sigma_v):
     return f"loading.precompression.pressure={sigma_v!r}"
 
 
-def test_nonspatial_sample_reaches_every_zone_and_joint():
+def _scene(study, s, variant, sigma_v):
+    """The typed scene of a study's sample record at a precompression."""
+    rec = record(s, study.variants[variant]["draw"], study.variables, study.rules)
+    return build_scene(BASE, OVERRIDES + [_pressure(sigma_v)], rec["settings"], f"{variant}:s{s['sample']}")
+
+
+def test_nonspatial_sample_reaches_every_zone_and_joint(willis):
     """One value per variable for the whole wallette: zones get E_b, f_tu,
     c_u = 1.5 f_tu and G_fu = 40 (f_tu/MPa)^0.7 N/m; joints get f_tj,
     c_j = 1.2 f_tj, w_u = 2 G_I / f_t = 2 x 0.03e-3 m (G_I = 0.03 f_tj),
     s_u = 2 G_II / c = 2 x 10 x 0.03e-3 / 1.2 m, tan(phi_j), k_n(E_b)."""
     s = dict(sample=3, f_tj=0.25e6, f_tu=4.2e6, phi_j=33.0, E_b=12e9)
-    sp = build(study_scene(BASE, OVERRIDES + [_pressure(0.25e6)], willis_record(s, "nonspatial"), "nonspatial"))
+    sp = build(_scene(willis, s, "nonspatial", 0.25e6))
     b = sp.assembly
     zp, jp = b.zones.par, b.joints.par
     G = 12e9 / 2.4
@@ -41,12 +48,12 @@ def test_nonspatial_sample_reaches_every_zone_and_joint():
     assert sp.scene.loading.precompression.pressure == 0.25e6
 
 
-def test_spatial_sample_per_unit_and_joint():
+def test_spatial_sample_per_unit_and_joint(willis):
     """Spatial: unit u's zones carry its own E_b, f_tu and G_fu(f_tu);
     joint j's sub-contacts its own f_tj, phi_j and G_I(f_tj)."""
-    _, spatial, _ = study_samples(2, seed=11)
+    _, spatial, _ = study_samples(2, 11, 24, 38, willis.variables, willis.correlations)
     s = spatial.iloc[1]
-    sp = build(study_scene(BASE, OVERRIDES + [_pressure(0.0)], willis_record(s.to_dict(), "spatial"), "spatial"))
+    sp = build(_scene(willis, s.to_dict(), "spatial", 0.0))
     b = sp.assembly
     start = 0
     for blk in b.blocks:
@@ -63,8 +70,6 @@ def test_spatial_sample_per_unit_and_joint():
         np.testing.assert_allclose(jp[c.sc, K.JP_TANPHI], np.tan(np.radians(s["phi_j"][j])))
 
 
-def test_unknown_variant():
+def test_unknown_draw(willis):
     with pytest.raises(ValueError):
-        willis_record(dict(sample=0), "mixed")
-    with pytest.raises(ValueError):      # a record without its settings (an older samples file)
-        study_scene(BASE, OVERRIDES + [_pressure(0.0)], dict(sample=0, f_tj=0.3e6), "nonspatial")
+        settings(dict(sample=0), "mixed", willis.variables, willis.rules)

@@ -1,4 +1,4 @@
-"""Issue 35: a study defined in a file.  The Willis study file gives the
+"""A study defined in a file.  The Willis study file gives the
 committed samples bit for bit; each distribution draws its known
 marginal; bad study files are refused naming the field."""
 from pathlib import Path
@@ -10,27 +10,38 @@ import yaml
 from scipy import stats
 
 from masonrydem import InputError
-from masonrydem.masonry import GF_COEFFICIENT, GF_EXPONENT, GI_PER_FT
-from masonrydem.sampling import STUDY_CORRELATIONS, STUDY_VARIABLES, Variable, lhs, records, study_samples
-from masonrydem.studyfile import load_study
+from masonrydem.study.sampling import Variable, lhs, records, study_samples
+from masonrydem.specimen.scene import build_scene
+from masonrydem.study.file import load_study
 
 WILLIS = "config/studies/willis.yaml"
 
 
 def test_the_willis_study_file_is_the_study_of_docs_study_md():
+    """Against docs/study.md, section 6 (Table 2 of the source): the
+    marginals by mean and COV in SI, E_b and f_tu correlated 0.5, and the
+    rules of section 3 (G_I = 0.03 N/mm per MPa of f_tj, G_fu = 0.04
+    f_tu^0.7)."""
     s = load_study(WILLIS)
-    assert s.variables == STUDY_VARIABLES and s.correlations == STUDY_CORRELATIONS
+    table2 = {"f_tj": ("lognormal", 0.30e6, 0.40, "materials.joints.ft", "joint"),
+              "f_tu": ("lognormal", 3.75e6, 0.25, "materials.units.ft", "unit"),
+              "phi_j": ("normal", 35.0, 0.10, "materials.joints.phi", "joint"),
+              "E_b": ("lognormal", 15000e6, 0.30, "materials.units.E", "unit")}
+    assert s.variables == tuple(Variable(n, d, m, c, setting=st, per=p) for n, (d, m, c, st, p) in table2.items())
+    assert s.correlations == {("E_b", "f_tu"): 0.5}
     assert (s.samples, s.seed) == (100, 20260101)
     assert s.variants == {"nonspatial": {"draw": "wallette", "correlation_length": None},
                           "spatial": {"draw": "items", "correlation_length": None}}
     assert s.levels == (0.0, 0.075e6, 0.15e6, 0.25e6, 0.5e6)
-    assert s.rules["materials.joints.GI_per_ft"] == GI_PER_FT
-    assert s.rules["materials.units.Gf_rule"] == {"coefficient": GF_COEFFICIENT, "exponent": GF_EXPONENT}
+    assert s.rules["materials.joints.GI_per_ft"] == 0.03 * 1e3 / 1e6
+    assert s.rules["materials.units.Gf_rule"] == {"coefficient": 0.04, "exponent": 0.7}
+    assert s.regression_variant == "nonspatial" and s.features == ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v")
 
 
 def test_the_willis_study_file_draws_the_committed_samples_bit_for_bit():
     s = load_study(WILLIS)
-    nonspatial, spatial, _ = study_samples(s.samples, s.seed, variables=s.variables, correlations=s.correlations)
+    g = build_scene(s.scene).geometry
+    nonspatial, spatial, _ = study_samples(s.samples, s.seed, g.n_units, len(g.joints), s.variables, s.correlations)
     for name, table in (("nonspatial", nonspatial), ("spatial", spatial)):
         committed = records(pd.read_parquet(f"results/study/samples_{name}.parquet"))
         assert records(table) == committed
@@ -119,7 +130,7 @@ def test_the_inputs_columns_and_terms_of_a_study(tmp_path):
     are arithmetic expressions of inputs (the names they use; their values
     by hand); without a regression, each input enters linearly."""
     import numpy as np
-    from masonrydem.studyfile import evaluate_term, parse_term
+    from masonrydem.study.terms import evaluate_term, parse_term
     s = load_study(WILLIS)
     assert s.columns() == dict(f_tj="f_tj_mpa", f_tu="f_tu_mpa", phi_j="phi_j_deg", E_b="E_b_mpa", sigma_v="sigma_v_mpa")
     assert s.features == ("f_tu", "f_tj", "f_tu^2", "f_tj^2", "sigma_v") and s.level_column() == "sigma_v_mpa"

@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from masonrydem.validation import hard_cases_table, initial_stiffness, reduced_table, specimen_table, summary_table
+from masonrydem.analysis.validation import hard_cases_table, initial_stiffness, reduced_table, specimen_table, summary_table
 
 
 def _row(**kw):
@@ -78,7 +78,9 @@ def test_reduced_table_good_enough_rule(P, ok, mode, good):
     full model's; its speed-up is the full model's run time over its own."""
     results = {("c", "full"): _row(P_max_kN=10.0, wall_time_s=8.0), ("c", "rigid"): _row(
         P_max_kN=P, ok=ok, failure_mode=mode, wall_time_s=2.0)}
-    t = reduced_table(results, 0.02).set_index("model")
+    scene = SimpleNamespace(value=lambda setting: {"materials.joints.ft": 0.3e6}[setting])
+    t = reduced_table(results, 0.02, {run: scene for run in results}).set_index("model")
+    assert t.loc["rigid", "f_tj_mpa"] == 0.3
     assert t.loc["rigid", "change_pct"] == pytest.approx(100.0 * (P / 10.0 - 1.0))
     assert t.loc["rigid", "speedup"] == 4.0 and t.loc["full", "speedup"] == 1.0
     assert bool(t.loc["rigid", "good_enough"]) is good
@@ -94,7 +96,7 @@ def test_specimen_table_triplet_closed_forms():
     curves = {"trip": pd.DataFrame(dict(displacement_mm=u, load_kN=load))}
     joints = SimpleNamespace(c=np.array([0.36e6, 0.36e6]), phi=np.array([35.0, 35.0]))
     scene = SimpleNamespace(loading=SimpleNamespace(test="triplet", precompression=SimpleNamespace(pressure=0.2e6)),
-                            materials=SimpleNamespace(joints=joints))
+                            materials=SimpleNamespace(joints=joints), value=lambda setting: 0.3e6)
     results = {"trip": _row(sigma_v_mpa=0.2, P_max_kN=10.0, strength_mpa=0.5)}
     r = specimen_table(results, curves, {"trip": scene}).iloc[0]
     mu = math.tan(math.radians(35.0))
@@ -108,14 +110,16 @@ def test_modelform_table_against_its_baselines():
     """Each run's change is measured against the baseline of its own case
     and level: 11 kN against 10 kN is +10 %, 9 against 12 is -25 %; a
     changed failure mode is flagged; the baseline's own change is 0."""
-    from masonrydem.validation import modelform_table
+    from masonrydem.analysis.validation import modelform_table
+    from masonrydem.pipeline import plan
 
     def row(P, mode="joint"):
         return dict(P_max_kN=P, failure_mode=mode, status="load_drop", steps=1000)
     results = {("joint", 0.0, "baseline"): row(10.0), ("joint", 0.0, "strip_1"): row(11.0),
                ("joint", 0.5, "baseline"): row(12.0), ("joint", 0.5, "strip_1"): row(9.0, "brick")}
     assumptions = [{"name": "strip", "what": "", "why": "", "options": [{"label": "40 mm", "overrides": []}]}]
-    t = modelform_table(results, assumptions).set_index(["sigma_v_mpa", "assumption"])
+    labels = plan.modelform_labels({"modelform": {"assumptions": assumptions}})
+    t = modelform_table(results, labels).set_index(["sigma_v_mpa", "assumption"])
     assert t.loc[(0.0, "strip"), "change_pct"] == pytest.approx(10.0)
     assert t.loc[(0.5, "strip"), "change_pct"] == pytest.approx(-25.0)
     assert t.loc[(0.0, "baseline"), "change_pct"] == 0.0 and t.loc[(0.0, "strip"), "option"] == "40 mm"

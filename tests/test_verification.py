@@ -10,10 +10,13 @@ import pytest
 from scipy.spatial import Delaunay
 
 from masonrydem import Elastic, JointProps, Model, MohrCoulomb
-from masonrydem import kernels as K
-from masonrydem.solver import Numerics, init, prescribe
-from masonrydem.stops import Stops, run
+from masonrydem.dem import kernels as K
+from masonrydem.dem.solver import Numerics, init, prescribe
+from masonrydem.dem.stops import Stops, run
 from specimens import block_nodes, pull_joint, shear_joint, work
+
+# the quasi-static integration these tests were written at (local damping 0.8)
+QS = Numerics(damping=0.8, safety=0.9)
 
 pytestmark = pytest.mark.verification
 
@@ -55,7 +58,7 @@ def test_patch_test_unstructured():
     steps = 100
     for nd in bnd:      # reach u = eps x in `steps` steps at constant velocity
         m.fix([nd], dofs=(0, 1, 2), velocity=eps @ x[nd] / steps)
-    state = init(m.build())
+    state = init(m.build(), QS)
     state, _, _ = run(state, steps)
     state = prescribe(state, slice(None), 0.0)
     state, _, res = run(state, 200_000, Stops(ratio_tol=1e-12))
@@ -80,7 +83,7 @@ def test_patch_test_mixed_discretization():
     bnd = np.flatnonzero(np.any(np.isclose(x, 0) | np.isclose(x, [0.3, 0.1, 0.2]), axis=1))
     for nd in bnd:
         m.fix([nd], dofs=(0, 1, 2), velocity=eps @ x[nd] / 50)
-    state = init(m.build())
+    state = init(m.build(), QS)
     state, _, _ = run(state, 50)
     state = prescribe(state, slice(None), 0.0)
     state, _, end = run(state, 200_000, Stops(ratio_tol=1e-12))
@@ -108,7 +111,7 @@ def test_rigid_body_motion_no_stress(motion):
         vel = np.cross(omega, x - x.mean(axis=0))
     for nd in range(x.shape[0]):
         m.fix([nd], dofs=(0, 1, 2), velocity=vel[nd])
-    state = init(m.build())
+    state = init(m.build(), QS)
     state, _, _ = run(state, 1 if motion == "rotation" else 1000)
     assert np.abs(state.zones.stress).max() < 1e-6
 
@@ -137,7 +140,7 @@ def test_elastic_stack_axial():
     m.add_pressure(2, H, +1, ((-1, 1), (-1, 1)), sigma)
     top = m.select(lambda x: x[:, 2] > H - 1e-9)
     m.add_monitor("top", top, 2)
-    state = init(m.build())
+    state = init(m.build(), QS)
     state, _, res = run(state, 500_000, Stops(ratio_tol=1e-8))
     assert res.status == "converged"
     expected = sigma * (H / E + 4 / kn)
@@ -172,7 +175,7 @@ def test_cantilever_of_blocks():
         tip = m.select(lambda x: x[:, 0] > L - 1e-9)
         P = 1000.0
         m.add_force(tip, [0, 0, -P / tip.size])
-        state = init(m.build())
+        state = init(m.build(), QS)
         state, _, end = run(state, 3_000_000, Stops(ratio_tol=1e-7), chunk=1000)
         assert end.status == "converged"
         I, A, G = b * d ** 3 / 12, b * d, E / (2 * (1 + nu))
@@ -245,7 +248,7 @@ def test_block_on_incline_stable_below_phi():
     (below 3 times it).  Local slip at the lightly loaded uphill edge (the
     tilted weight's overturning moment) is allowed."""
     m, blk = _incline(25.0, "static")
-    state = init(m.build())
+    state = init(m.build(), QS)
     state, _, end = run(state, 200_000, Stops(ratio_tol=1e-6))
     assert end.status == "converged"
     weight = 2000.0 * 0.1 * 0.1 * 0.05 * 9.81
@@ -290,7 +293,7 @@ def _zone_bar(nx, rate=2e-9):
     h = L / nx
     weak = np.abs(centroid - (0.5 * L + 0.5 * h) + 1e-12) < 0.5 * h
     b.zones.par[weak, K.ZP_FT] *= 0.98
-    state = init(b)
+    state = init(b, QS)
     wu = 2 * mat.Gf / mat.ft
     state, rec, _ = run(state, 2_000_000, Stops(disp_limit=1.3 * wu, monitor="pull"), record_every=1)
     return state, rec.history, a * a
@@ -350,7 +353,7 @@ def test_column_under_gravity_has_stress_rho_g_height_above():
     m.fix(base[1:2], dofs=[1])
     m.gravity = np.array([0.0, 0.0, -g])
     b = m.build()
-    state = init(b)
+    state = init(b, QS)
     state, _, end = run(state, 400_000, Stops(ratio_tol=1e-7))
     assert end.status == "converged"
     zc = b.nodes.x0[b.zones.tets].mean(axis=1)[:, 2]
@@ -384,7 +387,7 @@ def test_elastic_blocks_never_evaluate_a_yield_function():
         b.zones.par[:, K.ZP_FT] = 1.0
         b.zones.par[:, K.ZP_C] = 1e9
         b.zones.par[:, K.ZP_GF] = 1.0
-        state = init(b)
+        state = init(b, QS)
         state, _, _ = run(state, 1000)
         results[law] = (state.zones.stress[:, 0].mean(), state.zones.state[:, K.ZS_EPT].max())
     sxx, ept = results[K.ZONE_ELASTIC]
@@ -409,7 +412,7 @@ def test_without_gravity_the_kernel_never_reads_the_gravity_masses():
         b = m.build()
         if poison:
             b.nodes.mgrav[:] = np.nan
-        state = init(b)
+        state = init(b, QS)
         state, _, _ = run(state, 500)
         return state
     clean, poisoned = bar([0.0, 0.0, 0.0], False), bar([0.0, 0.0, 0.0], True)

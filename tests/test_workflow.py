@@ -69,25 +69,26 @@ def test_smoke_prediction_equations(smoke):
     non-spatial run; and the design table's prediction at 0 MPa is the
     lower of the written equations at the mean strengths, its band
     sqrt(property_sd^2 + residual_sd^2)."""
-    from masonrydem import equations as E
-    from masonrydem.sampling import STUDY_VARIABLES
-    from masonrydem.studyfile import input_means
+    from masonrydem.analysis import equations as E
+    from masonrydem.study.file import load_study
+    study = load_study("config/studies/willis.yaml")
+    columns = study.columns()
     eq = pd.read_csv(smoke / "study" / "equations.csv").set_index("mode")
     runs = pd.read_parquet(smoke / "study" / "runs.parquet")
     ns = runs[runs.ok & (runs.variant == "nonspatial")]
     fitted = eq[eq.alpha.notna()]
     assert len(fitted) >= 1
-    equations = {m: dict(intercept=r.intercept, coef={k: r[k] for k in E.FEATURES}) for m, r in fitted.iterrows()}
+    equations = {m: dict(intercept=r.intercept, coef={k: r[k] for k in study.features}) for m, r in fitted.iterrows()}
     for mode, e in equations.items():
         g = ns[ns.failure_mode == mode]
-        predicted = E.predict(e, E.inputs_of(g))
+        predicted = E.predict(e, E.inputs_of(g, columns))
         assert E.mape(g.strength_mpa, predicted) == pytest.approx(eq.loc[mode, "mape_pct"], rel=1e-4), mode
     joint, brick = equations.get("joint", equations.get("brick")), equations.get("brick", equations.get("joint"))
-    low, _ = E.lower_of_two(joint, brick, E.inputs_of(ns))
+    low, _ = E.lower_of_two(joint, brick, E.inputs_of(ns, columns))
     assert eq.loc["lower of two", "n"] == len(ns)
     assert E.mape(ns.strength_mpa, low) == pytest.approx(eq.loc["lower of two", "mape_pct"], rel=1e-4)
     design = pd.read_csv(smoke / "study" / "design_comparison.csv").set_index("sigma_v_mpa")
-    means = input_means(STUDY_VARIABLES)
+    means = study.means()
     at_mean, _ = E.lower_of_two(joint, brick, dict(f_tu=[means["f_tu"]], f_tj=[means["f_tj"]], sigma_v=[0.0]))
     assert design.loc[0.0, "prediction"] == pytest.approx(at_mean[0], rel=1e-4)
     np.testing.assert_allclose(design.band_sd, np.hypot(design.property_sd, eq.loc["lower of two", "residual_sd_mpa"]),
@@ -270,16 +271,18 @@ def test_a_simulation_that_raises_is_recorded(tmp_path):
     job's row, with status 'error', ok False and the refusal naming the
     field, the sample's inputs, and an empty curve (the statistics exclude
     and count such rows: tests/test_analysis.py)."""
-    from masonrydem.results import write_json
-    from masonrydem.sampling import records, study_samples
-    from masonrydem.study import willis_record
+    from masonrydem.specimen.row import write_json
+    from masonrydem.study.file import load_study
+    from masonrydem.study.sampling import records, wallette_samples
+    from masonrydem.study.settings import record
     smoke = yaml.safe_load(open("config/smoke.yaml"))["study"]
+    study = load_study("config/studies/willis.yaml")
     root = tmp_path / "results"
     (root / "study").mkdir(parents=True)
-    nonspatial, _, _ = study_samples(smoke["samples"], smoke["seed"])
+    nonspatial, _ = wallette_samples(smoke["samples"], smoke["seed"], study.variables, study.correlations)
     nonspatial.loc[nonspatial["sample"] == 0, "f_tj"] = -1e5
     write_json(root / "study" / "samples_nonspatial.json",
-               [willis_record(r, "nonspatial") for r in records(nonspatial)])
+               [record(r, "wallette", study.variables, study.rules) for r in records(nonspatial)])
     target = root / "study" / "runs" / "nonspatial" / "sigma_v0.0" / "s0" / "result.json"
     r = subprocess.run(SNAKEMAKE + [str(target), "--cores", "1", "--allowed-rules", "simulate", "--configfile",
                                     "config/smoke.yaml", "--config", f"results={root}"], capture_output=True, text=True)
@@ -310,13 +313,13 @@ def test_a_run_that_raises_is_recorded_as_the_workflow_runs_it(tmp_path, monkeyp
     replaced by one that raises) writes its row with status 'error' and the
     exception as its message, and an empty curve, and the job ends
     normally (exit 0: its row is written)."""
-    import masonrydem.protocol
+    import masonrydem.specimen.protocol
     from masonrydem import cli
 
     def boom(scene, progress=True):
         raise RuntimeError("a failure inside the run")
 
-    monkeypatch.setattr(masonrydem.protocol, "simulate", boom)
+    monkeypatch.setattr(masonrydem.specimen.protocol, "simulate", boom)
     out = tmp_path / "runs" / "joint_sv0" / "default"
     code = cli.main(["run", "config/scenes/willis.yaml", "--set", "geometry.courses=2", "--set",
                      "name=accuracy:joint_sv0:default", "--out", str(out), "--exit-zero", "--quiet"])
@@ -352,19 +355,19 @@ def _package_copy(tmp_path, module, line):
 
 
 def test_a_solver_change_reruns_every_simulation(smoke, tmp_path):
-    """A change to what a simulation computes (a statement in laws.py, a
-    module of the source hash) replans every simulation of the smoke: the
+    """A change to what a simulation computes (a statement in dem/laws.py,
+    a module of the source hash) replans every simulation of the smoke: the
     32 study runs and the runs of every other stage, as many as the plan
-    names (masonrydem.plan)."""
-    from masonrydem import plan
-    from masonrydem.accuracy import reference_checks
+    names (pipeline/plan.py); not the sampling."""
+    from masonrydem.pipeline import plan
     smoke_config = yaml.safe_load(open("config/smoke.yaml"))
-    planned = _planned(smoke, env=_package_copy(tmp_path, "laws.py", "_CHANGED = 1"),
+    planned = _planned(smoke, env=_package_copy(tmp_path, "dem/laws.py", "_CHANGED = 1"),
                        targets=["all", "accuracy", "modelform"])
     assert planned.get("simulate") == 32 and planned.get("validation_run") == 1, planned
     assert planned.get("hard_case_run") == 2 and planned.get("specimen_run") == 2, planned
     assert planned.get("accuracy_run") == len(plan.accuracy_runs(smoke_config)), planned
-    assert planned.get("accuracy_check_run") == len(reference_checks(smoke_config)), planned
+    assert planned.get("accuracy_check_run") == len(plan.reference_checks(smoke_config)), planned
+    assert "sample" not in planned, planned
     assert planned.get("modelform_run") == len(plan.modelform_runs(smoke_config)) == 2, planned
 
 
@@ -373,10 +376,10 @@ PER_RUN_RULES = {"simulate", "simulate_fine", "accuracy_run", "accuracy_check_ru
 
 
 def test_an_analysis_change_reruns_the_analysis_and_no_simulation(smoke, tmp_path):
-    """A change to the analysis of results (analysis.py, outside the source
-    hash) reruns the rules whose scripts may use it (their parameter
-    'code'), and no simulation, nor the sampling."""
-    planned = _planned(smoke, env=_package_copy(tmp_path, "analysis.py", "_CHANGED = 1"))
+    """A change to the analysis of results (analysis/statistics.py, outside
+    the source hash) reruns the rules whose scripts may use it (their
+    parameter 'code'), and no simulation, nor the sampling."""
+    planned = _planned(smoke, env=_package_copy(tmp_path, "analysis/statistics.py", "_CHANGED = 1"))
     assert {"statistics", "figures", "regression", "collect"} <= set(planned), planned
     assert not set(planned) & PER_RUN_RULES, planned
 
@@ -419,7 +422,7 @@ def test_a_clone_plans_nothing_and_still_sees_a_change(smoke, tmp_path):
     clone = _clone(smoke, tmp_path / "clone" / "results")
     assert (clone / "provenance.json").is_file() and not (clone / "study" / "runs").exists()
     assert _planned(clone) == {}
-    planned = _planned(clone, env=_package_copy(tmp_path, "laws.py", "_CHANGED = 1"))
+    planned = _planned(clone, env=_package_copy(tmp_path, "dem/laws.py", "_CHANGED = 1"))
     assert planned.get("simulate") == 32 and planned.get("validation_run") == 1, planned
     assert planned.get("hard_case_run") == 2 and planned.get("specimen_run") == 2, planned
     extra = tmp_path / "extra.yaml"

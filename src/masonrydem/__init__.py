@@ -1,37 +1,52 @@
 """masonrydem: a discrete element solver for masonry micro-models
 (deformable or rigid blocks, zero-thickness joints, explicit quasi-static
-dynamic relaxation); docs/formulation.md describes it."""
-from .errors import InputError
-from .laws import Elastic, JointProps, MohrCoulomb
-from .model import Model
+dynamic relaxation) and stochastic studies of masonry wallettes on it.
 
+The package is in layers, each a folder that imports only from the
+layers below it (docs/architecture.md; pyproject.toml states the contract
+and `make test` checks it):
+
+    cli        the command line
+    pipeline   what a workflow runs: the runs of each stage, checks at planning
+    report     captions, figures, pictures
+    analysis   statistics, equations, sensitivity, fractiles, predict, validation
+    study      a study file, its sampling and its samples' settings
+    specimen   one wallette test: scene, masonry rules, protocol, the result row
+    dem        the solver: model, laws, assembly, kernels, integration
+    errors     bad input
+
+What a simulation computes is decided by ``dem``, ``specimen`` and
+``errors`` alone: their sources make the solver's hash (``source_hash``).
+"""
 __version__ = "0.1.0"
 
-# A module that does not decide what a simulation computes (the analysis of
-# results, figures, the workflow's planning) says so itself, with a line
-# 'ANALYSIS_ONLY = True' (a data file: '# ANALYSIS_ONLY = True'): a new one
-# is then left out of the source hash without a change here.
-_MARKS = {".py": b"\nANALYSIS_ONLY = True", ".yaml": b"\n# ANALYSIS_ONLY = True"}
+# the folders and modules whose sources decide what a simulation computes
+SIMULATION = ("errors.py", "dem", "specimen")
+_EXPORTS = {"InputError": "errors", "Model": "dem.model", "Elastic": "dem.laws", "MohrCoulomb": "dem.laws",
+            "JointProps": "dem.laws"}
 
 
 def __getattr__(name):
-    """masonrydem.ANALYSIS_ONLY: the names of the files marked analysis-only."""
-    if name == "ANALYSIS_ONLY":
-        from pathlib import Path
-        return tuple(sorted(p.name for p in Path(__file__).parent.iterdir()
-                            if p.suffix in _MARKS and _MARKS[p.suffix] in p.read_bytes()))
+    """The solver's main classes on first use (masonrydem.Model): importing
+    the package alone loads no numerical code."""
+    if name in _EXPORTS:
+        import importlib
+        return getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def simulation_sources():
     """The package's files that decide what a simulation computes: every
-    module and data file but the analysis-only ones (ANALYSIS_ONLY; a new
-    module counts unless it says it is one)."""
+    module and data file in the folders and modules of SIMULATION."""
     from pathlib import Path
     here = Path(__file__).parent
-    skip = set(__getattr__("ANALYSIS_ONLY"))
-    return sorted(p.relative_to(here).as_posix() for p in here.rglob("*")
-                  if p.suffix in (".py", ".yaml") and p.name not in skip and "__pycache__" not in p.parts)
+    out = []
+    for item in SIMULATION:
+        path = here / item
+        files = [path] if path.is_file() else path.rglob("*")
+        out += [p.relative_to(here).as_posix() for p in files
+                if p.suffix in (".py", ".yaml") and "__pycache__" not in p.parts]
+    return sorted(out)
 
 
 def source_code(name, text):

@@ -4,8 +4,7 @@ user, the study's jobs and the workflow's runs alike.
   masonrydem run SCENE.yaml [--set path.to.key=value ...] --out DIR [--state] [--quiet] [--threads N]
       [--samples FILE --sample N --variant V] [--format parquet|json] [--exit-zero]
   masonrydem check SCENE.yaml [--set path.to.key=value ...]
-  masonrydem predict --ftu "3.5 MPa" --ftj "0.25 MPa" --sv "0.1 MPa" [--study predictor.json]
-  masonrydem predict --input NAME=VALUE ... [--study predictor.json]
+  masonrydem predict PREDICTOR NAME=VALUE ...
 
 ``check`` validates a scene and estimates its run (check.py) without
 building anything; ``predict`` evaluates a study's prediction equations
@@ -27,7 +26,6 @@ a warm process (``run_job``), from the job's start.  Run as
 and LLVM once its outputs are written (0.2 s of a job that simulates for 2).
 """
 import argparse
-import copy
 import os
 import sys
 import tempfile
@@ -71,7 +69,7 @@ def output_dir(out):
 
 def read_sample(path, number):
     """Sample ``number`` of a samples file (JSON: a list of records)."""
-    from .results import read_json
+    from .specimen.row import read_json
     try:
         samples = read_json(path)
     except (OSError, ValueError) as e:
@@ -83,70 +81,66 @@ def read_sample(path, number):
 
 
 def scene_of(args):
-    """(the typed scene of the command line, None): the file, its --set
-    overrides, then the sample's settings.  A study job whose sample the
-    scene refuses gives (the scene without the sample, the refusal): the
-    job records the refused sample as a run with status 'error'."""
-    from .inputs import apply_overrides, read_scene
-    from .scene import validate_scene
-    raw = apply_overrides(read_scene(args.scene), list(args.set) + (["outputs.state=true"] if args.state else []))
+    """(the typed scene of the command line, the sample's record or None,
+    the sample's refusal or None): the file, its --set overrides, then the
+    sample's settings.  A study job whose sample the scene refuses gives
+    the scene without the sample and the refusal: the job records the
+    refused sample as a run with status 'error'."""
+    from .specimen.scene import build_scene
+    overrides = list(args.set) + (["outputs.state=true"] if args.state else [])
     if args.samples is None:
-        return validate_scene(raw), None
-    from .study import apply_sample
+        return build_scene(args.scene, overrides), None, None
     if args.sample is None or args.variant is None:
         raise InputError("--samples", "needs --sample N and --variant V")
     sample = read_sample(args.samples, args.sample)
+    if "settings" not in sample:
+        raise InputError("--samples", f"{args.samples}: sample {args.sample} has no settings: a samples file of an "
+                                      "older version; rerun the study's sample rule")
     try:
-        return validate_scene(apply_sample(copy.deepcopy(raw), sample, args.variant)), None
-    except ValueError as e:
-        if not isinstance(e, InputError):
-            raise InputError("--variant", str(e)) from None
-        return validate_scene(raw), e
+        return build_scene(args.scene, overrides, sample["settings"], f"{args.variant}:s{args.sample}"), sample, None
+    except InputError as e:
+        return build_scene(args.scene, overrides), sample, e
 
 
 def _run(args, stream=None, started=None):
     """``run``; its messages to ``stream`` (None: stdout and stderr);
     ``started``: when the job started (None: the interpreter's start)."""
     check_threads(args.threads)
-    scene, refused = scene_of(args)
+    scene, sample, refused = scene_of(args)
     out = output_dir(args.out)
     import numba
 
-    from .results import empty_curve, error_row, write
+    from .specimen.row import empty_curve, error_row, sample_inputs, write
     numba.set_num_threads(args.threads)
     startup = time.time() - (_process_start() if started is None else started)
-    labels = dict(variant=args.variant, sample=args.sample) if args.samples is not None else {}
+    labels = dict(variant=args.variant, sample=args.sample) if sample is not None else {}
+    inputs = sample.get("inputs", {}) if sample is not None else {}
     t0 = time.perf_counter()
     try:
         if refused is not None:
             raise refused
-        row, curve, state, error = _simulate(scene, not args.quiet, labels)
+        row, curve, state, error = _simulate(scene, not args.quiet, labels, inputs)
     except Exception as e:   # nothing lost: the row says what happened
         traceback.print_exc(file=stream or sys.stderr)
-        inputs = _sample_inputs(args) if refused is not None else {}
-        row, curve, error = error_row(scene, e, time.perf_counter() - t0, **labels, inputs=inputs), empty_curve(), e
+        values = sample_inputs(sample, inputs) if refused is not None else None
+        row = error_row(scene, e, time.perf_counter() - t0, **labels, inputs=inputs, values=values)
+        curve, error = empty_curve(), e
         state = True if scene.outputs.state else None
     row.startup_s = startup
     write(out, row, curve, args.format, state)
     return _report(row, error, out, args.exit_zero, stream)
 
 
-def _sample_inputs(args):
-    """The inputs of a refused sample, as its row reports them."""
-    from .study import sample_inputs
-    return sample_inputs(read_sample(args.samples, args.sample))
-
-
-def _simulate(scene, progress, labels):
+def _simulate(scene, progress, labels, inputs):
     """(row, curve, final state for VTK or None, None)."""
-    from .protocol import simulate
-    from .results import curve, outcome_row
+    from .specimen.protocol import simulate
+    from .specimen.row import curve, outcome_row
     outcome = simulate(scene, progress=progress)
     state = None
     if scene.outputs.state:
-        from .viz import state_blocks
+        from .specimen.state import state_blocks
         state = state_blocks(outcome.specimen, outcome.state)
-    return outcome_row(outcome, **labels), curve(outcome), state, None
+    return outcome_row(outcome, **labels, inputs=inputs), curve(outcome), state, None
 
 
 def _report(row, error, out, exit_zero, stream=None):
@@ -238,26 +232,22 @@ def _process_start():
 
 def _check(args):
     """``check``: the scene validated and described; nothing built or run."""
-    from .check import summary
-    from .scene import load_scene
-    print("\n".join(summary(load_scene(args.scene, args.set))))
+    from .pipeline.check import summary
+    from .specimen.scene import build_scene
+    print("\n".join(summary(build_scene(args.scene, args.set))))
     return 0
 
 
 def _predict(args):
     """``predict``: a study's equations at the given inputs."""
-    from .errors import InputError
-    from .predict import OPTIONS, predict
-    inputs, options = {}, {}
-    for name, option in OPTIONS.items():
-        if getattr(args, option[2:]) is not None:
-            inputs[name], options[name] = getattr(args, option[2:]), option
-    for text in args.input:
+    from .analysis.predict import predict
+    inputs = {}
+    for text in args.inputs:
         name, eq, value = text.partition("=")
         if not eq or not name.strip():
-            raise InputError("--input", f"{text!r} is not NAME=VALUE (such as f_tu='3.5 MPa')")
-        inputs[name.strip()], options[name.strip()] = value, f"--input {name.strip()}"
-    print("\n".join(predict(args.study, options, **inputs).lines()))
+            raise InputError("predict", f"{text!r} is not NAME=VALUE (such as f_tu='3.5 MPa')")
+        inputs[name.strip()] = value
+    print("\n".join(predict(args.predictor, {n: n for n in inputs}, **inputs).lines()))
     return 0
 
 
@@ -278,7 +268,7 @@ def parser():
                      help="of result and curve (default parquet)")
     run.add_argument("--samples", help="a study's samples file (JSON): run one of its samples")
     run.add_argument("--sample", type=int, help="with --samples: the sample's number")
-    run.add_argument("--variant", help="with --samples: nonspatial or spatial")
+    run.add_argument("--variant", help="with --samples: the sample's variant (as the study file names it)")
     run.add_argument("--exit-zero", action="store_true",
                      help="exit 0 whenever the row is written (its status says how the run ended)")
     check = sub.add_parser("check", help="validate a scene and print its model's size and a run's estimated "
@@ -287,14 +277,11 @@ def parser():
     check.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override a scene setting")
     pred = sub.add_parser("predict", help="a study's prediction equations: strength, load, failure mode and a "
                                           "95 %% prediction interval")
-    for name, what in (("--ftu", "the units' tensile strength f_tu"), ("--ftj", "the joints' tensile bond f_tj"),
-                       ("--sv", "the precompression sigma_v")):
-        pred.add_argument(name, help=f"{what}, a stress with its unit, e.g. '3.5 MPa' (a plain number is Pa)")
-    pred.add_argument("--input", action="append", default=[], metavar="NAME=VALUE",
-                      help="any input of the study's equations by its name in the study file, e.g. "
-                           "--input t='10 mm' (a plain number is SI)")
-    pred.add_argument("--study", default="results/study/predictor.json",
-                      help="the study's predictor (default results/study/predictor.json)")
+    pred.add_argument("predictor", help="the study's predictor file (its regression writes it: "
+                                        "results/study/predictor.json)")
+    pred.add_argument("inputs", nargs="+", metavar="NAME=VALUE",
+                      help="each input of the study's equations by its name in the study file, with its unit, "
+                           "e.g. f_tu='3.5 MPa' (a plain number is SI)")
     return p
 
 

@@ -62,7 +62,7 @@ rule regression:
 
 rule sensitivity:
     """Sobol indices of the strength per variant, level and mode, on a
-    surrogate of the runs (src/masonrydem/sensitivity.py)."""
+    surrogate of the runs (src/masonrydem/analysis/sensitivity.py)."""
     input:
         runs=f"{R}/study/runs.parquet",
         correlations=f"{R}/study/correlations.csv",
@@ -86,7 +86,7 @@ rule sensitivity:
 
 rule characteristic:
     """The 5 % fractile of the strength per variant and level, two ways,
-    beside the design rules (src/masonrydem/fractiles.py)."""
+    beside the design rules (src/masonrydem/analysis/fractiles.py)."""
     input:
         runs=f"{R}/study/runs.parquet",
         design=f"{R}/study/design_comparison.csv",
@@ -125,6 +125,7 @@ if "paper_comparison" in TABLES:
         params:
             code=get_code("scorecard"),
             bootstrap=config["study"]["bootstrap"],
+            analysis=plan.analysis(config),
         log:
             f"{R}/logs/study/scorecard.log",
         conda:
@@ -163,6 +164,7 @@ rule further_studies:
         **{f"{n}_caption": get_caption_file(f"further_study_{n}") for n in FURTHER},
     params:
         studies=FURTHER,
+        specs={n: plan.further_study(s["workflow"]) for n, s in FURTHER.items()},
         code=get_code("further_studies"),
     log:
         f"{R}/logs/study/further_studies.log",
@@ -176,7 +178,7 @@ if config.get("geometry_formats"):
 
     rule geometry_formats:
         """The geometry study's equations on formats they were not fitted to
-        (src/masonrydem/formats.py)."""
+        (src/masonrydem/analysis/brick_formats.py)."""
         input:
             predictor=f"{config['geometry_formats']['equations']}/study/predictor.json",
             equations=f"{config['geometry_formats']['equations']}/study/equations.csv",

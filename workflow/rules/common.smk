@@ -1,3 +1,4 @@
+import dataclasses
 import shlex
 import sys
 import os
@@ -6,8 +7,9 @@ from snakemake.utils import validate
 
 import masonrydem
 import masonrydem.cli
-from masonrydem import plan
-from masonrydem.accuracy import reference_checks, reference_runs
+from masonrydem.pipeline import plan
+from masonrydem.pipeline.plan import reference_checks, reference_runs
+from masonrydem.pipeline.snakemake_state import stop_rate_limiter_timers
 
 validate(config, "../../config/schema.yaml", set_default=True)
 # refused at planning, naming the setting: NaN or infinite values, overrides the scene refuses
@@ -73,22 +75,6 @@ def run_study_job(input, params, wildcards, threads, log):
 # Ctrl-C interrupts the simulations that run in threads of this process as
 # it interrupts those in processes of their own: their outputs are removed
 masonrydem.cli.interrupt_jobs_on_sigint()
-
-
-def stop_rate_limiter_timers():
-    """Once the workflow has ended: cancel the timers of Snakemake's job
-    rate limiter (profiles/default).  Every scheduling round arms one,
-    to schedule again one timespan (30 s) later, as a non-daemon thread,
-    so that Snakemake waited up to 30 s after its last job before it
-    exited: 6 jobs of 0.5 s took 35.1 s from start to exit, 4.8 s with the
-    timers cancelled (a dry run arms none).  Only the rate limiter's
-    timers are cancelled (Snakemake 9's JobScheduler._schedule_reevalutation);
-    under another name they would merely run out."""
-    import threading
-    for timer in threading.enumerate():
-        if isinstance(timer, threading.Timer) and \
-                "_schedule_reevalutation" in getattr(timer.function, "__qualname__", ""):
-            timer.cancel()
 
 
 def get_job_sets(overrides):
@@ -172,13 +158,16 @@ def get_study_scene():
 
 
 def get_study_design():
-    """What decides the samples and their settings: the study's number of
-    samples, seed, variables, correlations, variants and rules (not its
-    levels: a change of the levels must not redraw the samples)."""
+    """What decides the samples and their settings, all the sample rule
+    reads (it never loads the study file or the scene, so that its code
+    holds nothing of the solver): the study's number of samples, seed,
+    variables, correlations, variants and rules, and the wallette's units
+    and joints (their counts and where each sits: the fields' distances).
+    Not its levels: a change of the levels must not redraw the samples."""
     s = plan.study(config)
-    return dict(samples=s.samples, seed=s.seed, variables=[repr(v) for v in s.variables],
-                correlations={f"{a}~{b}": rho for (a, b), rho in s.correlations.items()}, variants=s.variants,
-                rules=s.rules, scene=s.scene)
+    return dict(samples=s.samples, seed=s.seed, variables=[dataclasses.asdict(v) for v in s.variables],
+                correlations=[[a, b, rho] for (a, b), rho in s.correlations.items()], variants=s.variants,
+                rules=s.rules, items=plan.study_items(config))
 
 
 def get_study_settings():
@@ -271,14 +260,15 @@ def get_subsample_runs(which):
         st = plan.study(config)
         dirs = dict(zip(plan.study_levels(config), plan.study_level_dirs(config)))
         missing = [sv for sv in sub["precompression_mpa"] if float(sv) not in dirs]
-        if st.sweep_setting != "loading.precompression.pressure" or missing:
+        if not st.sweeps_precompression or missing:
             raise ValueError(f"accuracy.subsample.precompression_mpa: {missing or sub['precompression_mpa']} MPa "
                              f"pairs the study's own runs at these precompressions, but the study file sweeps "
                              f"{st.sweep_setting} at {plan.study_level_dirs(config)}; give the subsample the "
                              f"study's levels, or leave the accuracy target out")
-        return expand(f"{R}/study/runs/nonspatial/{{level}}/s{{sample}}/result.json",
+        return expand(f"{R}/study/runs/{{variant}}/{{level}}/s{{sample}}/result.json", variant=st.regression_variant,
                       level=[dirs[float(sv)] for sv in sub["precompression_mpa"]], sample=range(sub["n_samples"]))
-    return expand(f"{R}/accuracy/subsample/nonspatial/sv{{sv}}/s{{sample}}/result.json", sv=sub["precompression_mpa"],
+    return expand(f"{R}/accuracy/subsample/{{variant}}/sv{{sv}}/s{{sample}}/result.json",
+                  variant=plan.study(config).regression_variant, sv=sub["precompression_mpa"],
                   sample=range(sub["n_samples"]))
 
 

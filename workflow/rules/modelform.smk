@@ -39,7 +39,7 @@ rule modelform:
         code=get_code("modelform"),
         simulations=get_runs(get_modelform_sets, [dict(case=c, sv=sv, option=o) for c, sv, o in plan.modelform_runs(config)]),
         runs=plan.modelform_runs(config),
-        assumptions=config.get("modelform", {}).get("assumptions", []),
+        labels=plan.modelform_labels(config) if config.get("modelform") else {},
     log:
         f"{R}/logs/modelform/summary.log",
     conda:

@@ -19,15 +19,16 @@
 # - every step run by a script carries its code as a parameter (get_code), and the
 #   profile's rerun triggers leave out 'code', which compares the script's
 #   file time.
-import base64
 import functools
 import hashlib
 import json
 from pathlib import Path
 from types import SimpleNamespace
 
+from masonrydem.pipeline.fingerprint import code_fingerprint
+from masonrydem.pipeline.snakemake_state import read_record, record_path, write_record
+
 PROVENANCE = f"{R}/provenance.json"
-METADATA = Path(".snakemake") / "metadata"
 # the rules whose outputs are one run each: not committed, so not recorded
 PER_RUN_RULES = {"simulate", "simulate_fine", "accuracy_run", "accuracy_check_run", "accuracy_scaling_run",
                  "modelform_run", "hard_case_run", "reduced_run", "specimen_run"}
@@ -41,55 +42,11 @@ def _digest(*items):
     return hashlib.sha256(json.dumps(items, sort_keys=True, default=str).encode()).hexdigest()[:16]
 
 
-@functools.cache
-def _module_code(name):
-    return masonrydem.source_code(name, (Path(masonrydem.__file__).parent / name).read_text())
-
-
-def _package_imports(text, inside):
-    """The package's modules a source imports (absolute imports of
-    masonrydem, and relative ones ``inside`` the package)."""
-    import ast
-    names = set()
-    for node in ast.walk(ast.parse(text)):
-        if isinstance(node, ast.ImportFrom):
-            base = node.module or ""
-            if node.level == 1 and inside or base.split(".")[0] == "masonrydem":
-                sub = base.removeprefix("masonrydem").lstrip(".")
-                names |= {sub.split(".")[0]} if sub else {a.name for a in node.names}
-        elif isinstance(node, ast.Import):
-            names |= {a.name.split(".")[1] for a in node.names if a.name.startswith("masonrydem.")}
-    here = Path(masonrydem.__file__).parent
-    return {f"{n}.py" for n in names if (here / f"{n}.py").is_file()}
-
-
-@functools.cache
-def _module_imports(name):
-    """The package's modules that a package module imports (each parsed once)."""
-    return frozenset(_package_imports((Path(masonrydem.__file__).parent / name).read_text(), True))
-
-
-@functools.cache
-def _modules_used(name):
-    """A package module and every package module it imports, transitively."""
-    found, todo = set(), {name}
-    while todo:
-        n = todo.pop()
-        found.add(n)
-        todo |= _module_imports(n) - found
-    return frozenset(found)
-
-
 def get_code(script):
     """What decides a script rule's outputs besides its inputs and settings:
     the script and the package's modules it imports, transitively
-    (docstrings and comments aside); the solver's source hash stands for
-    those outside the analysis modules (masonrydem.ANALYSIS_ONLY)."""
-    text = Path(workflow.basedir, "workflow", "scripts", f"{script}.py").read_text()
-    used = set().union(*(_modules_used(m) for m in _package_imports(text, False)))
-    analysis = sorted(used & set(masonrydem.ANALYSIS_ONLY))
-    return _digest(masonrydem.source_code(f"{script}.py", text), *(_module_code(n) for n in analysis),
-                   get_solver_hash() if used - set(analysis) else None)
+    (masonrydem.pipeline.fingerprint)."""
+    return code_fingerprint(Path(workflow.basedir, "workflow", "scripts", f"{script}.py"))
 
 
 def get_file_digest(path):
@@ -112,15 +69,6 @@ def get_study_runs_key():
     (their number is in the list of inputs)."""
     return get_runs(get_study_sets, [dict(level=d) for d in plan.study_level_dirs(config)], repr(get_study_design()),
                     scene=get_study_scene())
-
-
-def _record_path(path):
-    """Where Snakemake's file store keeps the record of an output
-    (snakemake/persistence/file.py: the path in URL-safe base64, cut into
-    names of at most 254 characters)."""
-    b64 = base64.urlsafe_b64encode(str(path).encode()).decode()
-    parts = [b64[i:i + 254] for i in range(0, len(b64), 254)]
-    return METADATA.joinpath(*[f"@{p}" for p in parts[:-1]], parts[-1])
 
 
 def _sha256(path):
@@ -170,15 +118,10 @@ def restore_provenance():
     for path, entry in entries.items():
         if Path(path).exists() and _sha256(path) != entry["sha256"]:
             continue
-        record = _record_path(path)
-        try:
-            local = json.loads(record.read_text())
-        except (OSError, ValueError):
-            local = None
+        local = read_record(path)
         if local and ((local.get("endtime") or 0) >= newer_than or _kept(local, entries) == entry["record"]):
             continue
-        record.parent.mkdir(parents=True, exist_ok=True)
-        record.write_text(json.dumps(_placed(entry["record"])))
+        write_record(path, _placed(entry["record"]))
 
 
 def save_provenance():
@@ -186,9 +129,8 @@ def save_provenance():
     R/provenance.json (paths relative to R)."""
     records = {}
     for path in sorted(p for p in Path(R).rglob("*") if p.is_file()):
-        try:
-            record = json.loads(_record_path(path).read_text())
-        except (OSError, ValueError):
+        record = read_record(path)
+        if record is None:
             continue
         if record.get("rule") not in PER_RUN_RULES and not record.get("incomplete"):
             records[path.as_posix()] = record

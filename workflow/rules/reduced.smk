@@ -34,6 +34,7 @@ rule reduced:
     """The table of the reduced models: P_max and run time against the full model."""
     input:
         results=get_reduced_results(),
+        scene=config["scene"],
         template=get_template("reduced"),
     output:
         table=report(f"{R}/reduced/summary.csv", caption=get_caption("reduced"), category="Reduced models"),
@@ -42,6 +43,7 @@ rule reduced:
         code=get_code("reduced"),
         simulations=get_runs(get_reduced_sets, [dict(case=c, model=m) for c, m in plan.reduced_runs(config)]),
         runs=plan.reduced_runs(config),
+        overrides=[plan.reduced_overrides(config, c, m) for c, m in plan.reduced_runs(config)],
         tolerance=config.get("reduced", {}).get("tolerance"),
     log:
         f"{R}/logs/reduced/summary.log",

@@ -66,7 +66,6 @@ rule collect:
     input:
         results=get_study_runs("result"),
         curves=get_study_runs("curve"),
-        samples=expand(f"{R}/study/samples_{{variant}}.json", variant=plan.study_variants(config)),
     output:
         runs=f"{R}/study/runs.parquet",
         curves=f"{R}/study/curves.parquet",
@@ -74,7 +73,6 @@ rule collect:
         code=get_code("collect"),
         analysis=plan.analysis(config),
         levels=dict(zip(plan.study_level_dirs(config), plan.study_levels(config))),
-        variants=plan.study_variants(config),
         simulations=get_study_runs_key(),
         curve_points=config["study"]["curve_points"],
     log:

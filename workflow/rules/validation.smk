@@ -1,7 +1,7 @@
 wildcard_constraints:
     case="[A-Za-z0-9_]+",
     sv="[0-9.]+",
-    variant="nonspatial|spatial",
+    variant="|".join(plan.study_variants(config)),
     sample="[0-9]+",
 
 

@@ -8,7 +8,7 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import figures  # noqa: E402
+from masonrydem.report import figures  # noqa: E402
 
 figures.accuracy_pareto(pd.read_csv(sm.input.runs), pd.read_csv(sm.input.convergence), pd.read_csv(sm.input.choice),
                         sm.params.tolerance, sm.output.pareto)

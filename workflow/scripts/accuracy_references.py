@@ -8,7 +8,7 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem.accuracy import RUN_COLUMNS  # noqa: E402
+from masonrydem.analysis.accuracy import RUN_COLUMNS  # noqa: E402
 
 rows = [dict(case=case, setting=setting, **pd.read_parquet(p).iloc[0][RUN_COLUMNS + ["solver_version"]].to_dict())
         for (case, setting), p in zip(sm.params.runs, sm.input.results)]

@@ -6,7 +6,8 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import accuracy, captions  # noqa: E402
+from masonrydem.analysis import accuracy  # noqa: E402
+from masonrydem.report import captions  # noqa: E402
 
 units = pd.concat([pd.read_parquet(p) for p in sm.input.scaling], ignore_index=True).assign(courses=sm.params.courses)
 table, _, _ = accuracy.scaling(units, pd.read_csv(sm.input.runs), sm.params.settings)

@@ -6,8 +6,9 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import accuracy, captions, figures  # noqa: E402
-from masonrydem.results import read_json  # noqa: E402
+from masonrydem.analysis import accuracy  # noqa: E402
+from masonrydem.report import captions, figures  # noqa: E402
+from masonrydem.specimen.row import read_json  # noqa: E402
 
 default = pd.DataFrame([read_json(p) for p in sm.input.default])
 fine = pd.DataFrame([read_json(p) for p in sm.input.fine])

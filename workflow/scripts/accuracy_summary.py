@@ -7,7 +7,8 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import accuracy, captions  # noqa: E402
+from masonrydem.analysis import accuracy  # noqa: E402
+from masonrydem.report import captions  # noqa: E402
 
 
 def rows_of(runs, results):

@@ -6,8 +6,9 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import captions, fractiles  # noqa: E402
-from masonrydem.analysis import of_study  # noqa: E402
+from masonrydem.report import captions  # noqa: E402
+from masonrydem.analysis import fractiles  # noqa: E402
+from masonrydem.analysis.statistics import of_study  # noqa: E402
 
 runs = pd.read_parquet(sm.input.runs)
 level, _ = of_study(sm.params.analysis)

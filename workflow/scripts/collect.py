@@ -1,22 +1,19 @@
 """All simulations in one table, and all curves in another (each thinned
 to the configured number of points, keeping its peak; values in single
-precision).  The table has a column for the swept setting and for each
-random variable (plan.analysis): the row's own where it reports it (the
-precompression, the Willis study's strengths and stiffness, from the
-model), else the level of the run's folder and the sample's value (its
-mean over units or joints)."""
+precision).  Each run's row carries the study's variables by their names
+(the samples file gives them); the swept setting's column is the row's
+own where it reports it (the precompression), else the level of the
+run's folder."""
 import sys
 from pathlib import Path
 
 sm = snakemake  # noqa: F821
 sys.stderr = sys.stdout = open(sm.log[0], "w")
 
-import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from masonrydem.analysis import check_one_solver, of_study  # noqa: E402
-from masonrydem.quantities import to_shown  # noqa: E402
-from masonrydem.results import atomic_write, downsample, read_json  # noqa: E402
+from masonrydem.analysis.statistics import check_one_solver, of_study  # noqa: E402
+from masonrydem.specimen.row import atomic_write, downsample, read_json  # noqa: E402
 
 spec = sm.params.analysis
 level = spec["level_column"]
@@ -24,12 +21,10 @@ runs = pd.DataFrame([read_json(p) for p in sm.input.results])
 if level not in runs:
     runs[level] = [sm.params.levels[Path(p).parent.parent.name] for p in sm.input.results]
 print("solver", check_one_solver(runs, of_study(spec)[0]))
-missing = {name: col for name, col in spec["columns"].items() if name in spec["means"] and col not in runs}
+missing = [col for name, col in spec["columns"].items() if name in spec["means"] and col not in runs]
 if missing:
-    samples = {v: {s["sample"]: s for s in read_json(p)} for v, p in zip(sm.params.variants, sm.input.samples)}
-    for name, col in missing.items():
-        runs[col] = [to_shown(float(np.mean(samples[r.variant][r.sample][name])), spec["units"][name])
-                     for r in runs.itertuples()]
+    raise ValueError(f"the runs do not report the study's inputs {missing}: rows of another study or an older "
+                     "version; rerun them")
 
 
 def thinned(path):

@@ -9,7 +9,7 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import captions  # noqa: E402
+from masonrydem.report import captions  # noqa: E402
 
 for name, study in sm.params.studies.items():
     st = pd.read_csv(sm.input[f"{name}_statistics"])
@@ -17,9 +17,11 @@ for name, study in sm.params.studies.items():
     tables = captions.html_table(st, f"{study['title']}: P_max and strength per variant, level and mode")
     tables = tables.replace("\n</body></html>\n", "\n" + captions.html_table(eq, "Prediction equations").split("<body>", 1)[1])
     Path(sm.output[f"{name}_page"]).write_text(tables)
-    ns = st[(st.variant == "nonspatial") & (st["mode"] == "all")]
-    means = "; ".join(f"{r.sigma_v_mpa:g} MPa: {r.P_max_mean_kN:.2f} kN (COV {r.P_max_cov:.2f}), "
-                      f"{r.strength_mean_mpa:.2f} MPa, brick share {r.brick_share:.0%}" for r in ns.itertuples())
+    spec = sm.params.specs[name]
+    ns = st[(st.variant == spec["variant"]) & (st["mode"] == "all")]
+    means = "; ".join(f"{getattr(r, spec['level_column']):g} {spec['level_unit']}: {r.P_max_mean_kN:.2f} kN "
+                      f"(COV {r.P_max_cov:.2f}), {r.strength_mean_mpa:.2f} MPa, brick share {r.brick_share:.0%}"
+                      for r in ns.itertuples())
     eqs = eq.set_index("mode").equation
     captions.write_caption(sm.input.template, sm.output[f"{name}_caption"], title=study["title"],
                            results=study["results"], workflow=study["workflow"], means=means,

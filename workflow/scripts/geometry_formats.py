@@ -8,14 +8,15 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import captions, formats  # noqa: E402
+from masonrydem.report import captions  # noqa: E402
+from masonrydem.analysis import brick_formats as formats  # noqa: E402
 
 predictor = json.loads(Path(sm.input.predictor).read_text())
 own = json.loads(Path(sm.input.own).read_text())     # this workflow's study: the fixed-geometry equations
 held = {}
 for (name, spec), runs in zip(sm.params.formats.items(), sm.input.runs):
-    geometry = formats.format_geometry(spec["study"])
-    held[name] = (pd.read_parquet(runs), geometry, None if spec.get("results") else own)
+    geometry, variant = formats.format_of(spec["study"])
+    held[name] = (pd.read_parquet(runs), geometry, variant, None if spec.get("results") else own)
 table = formats.held_out_table(predictor, held, pd.read_parquet(sm.input.fitted))
 table.to_csv(sm.output.table, index=False, float_format="%.4g")
 Path(sm.output.page).write_text(captions.html_table(table, "The geometry study's equations on held-out formats"))

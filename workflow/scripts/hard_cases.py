@@ -6,8 +6,8 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import captions  # noqa: E402
-from masonrydem.validation import hard_cases_table  # noqa: E402
+from masonrydem.report import captions  # noqa: E402
+from masonrydem.analysis.validation import hard_cases_table  # noqa: E402
 
 results = {r: pd.read_parquet(p).iloc[0] for r, p in zip(sm.params.runs, sm.input.results)}
 table = hard_cases_table(results, sm.params.expect)

@@ -5,13 +5,13 @@ import sys
 sm = snakemake  # noqa: F821
 sys.stderr = sys.stdout = open(sm.log[0], "w")
 
-from masonrydem import captions, plan  # noqa: E402
-from masonrydem.sampling import sampling_check, study_samples  # noqa: E402
+from masonrydem.report import captions  # noqa: E402
+from masonrydem.pipeline import plan  # noqa: E402
+from masonrydem.study.sampling import sampling_check, wallette_samples  # noqa: E402
 
 study = plan.study(sm.config)
-nonspatial, _, achieved = study_samples(study.samples, study.seed, variables=study.variables,
-                                        correlations=study.correlations)
-check = sampling_check(nonspatial, achieved, study.variables)
+wallettes, achieved = wallette_samples(study.samples, study.seed, study.variables, study.correlations)
+check = sampling_check(wallettes, achieved, study.variables)
 check.to_csv(sm.output.check, index=False, float_format="%.4g")
 print(check.to_string())
 captions.write_caption(sm.input.template, sm.output.caption, **captions.sampling_check(check, achieved,

@@ -6,10 +6,11 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import captions, plan  # noqa: E402
-from masonrydem import sensitivity as S  # noqa: E402
-from masonrydem.analysis import of_study  # noqa: E402
-from masonrydem.quantities import to_shown  # noqa: E402
+from masonrydem.report import captions  # noqa: E402
+from masonrydem.pipeline import plan  # noqa: E402
+from masonrydem.analysis import sensitivity as S  # noqa: E402
+from masonrydem.analysis.statistics import of_study  # noqa: E402
+from masonrydem.specimen.quantities import to_shown  # noqa: E402
 
 runs = pd.read_parquet(sm.input.runs)
 spec = sm.params.analysis

@@ -6,8 +6,8 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import captions  # noqa: E402
-from masonrydem.analysis import of_study, study_tables  # noqa: E402
+from masonrydem.report import captions  # noqa: E402
+from masonrydem.analysis.statistics import of_study, study_tables  # noqa: E402
 
 runs = pd.read_parquet(sm.input.runs)
 level, inputs = of_study(sm.params.analysis)      # the swept setting, the random inputs' columns

@@ -11,14 +11,15 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import captions, figures  # noqa: E402
-from masonrydem.analysis import of_study  # noqa: E402
-from masonrydem.figures import typical_run  # noqa: E402
-from masonrydem.plan import level_override  # noqa: E402
-from masonrydem.protocol import simulate  # noqa: E402
-from masonrydem.results import outcome_row, read_json  # noqa: E402
-from masonrydem.study import study_scene  # noqa: E402
-from masonrydem.viz import picture_damage, state_blocks  # noqa: E402
+from masonrydem.report import captions, figures  # noqa: E402
+from masonrydem.analysis.statistics import of_study  # noqa: E402
+from masonrydem.report.figures import typical_run  # noqa: E402
+from masonrydem.pipeline.plan import level_override  # noqa: E402
+from masonrydem.specimen.protocol import simulate  # noqa: E402
+from masonrydem.specimen.row import outcome_row, read_json  # noqa: E402
+from masonrydem.specimen.scene import build_scene  # noqa: E402
+from masonrydem.specimen.state import state_blocks  # noqa: E402
+from masonrydem.report.pictures import picture_damage  # noqa: E402
 
 runs = pd.read_parquet(sm.input.runs)
 level, _ = of_study(sm.params.analysis)
@@ -32,8 +33,8 @@ for (variant, mode), path in zip(sm.params.pictures, sm.output.pictures):
     samples = read_json(sm.input.samples[sm.params.variants.index(variant)])
     sample = next(s for s in samples if s["sample"] == pick["sample"])
     at_level = level.text(pick[level.column])
-    outcome = simulate(study_scene(sm.input.scene, [*sm.params.overrides, level_override(sm.config, pick[level.column])],
-                                   sample, variant))
+    outcome = simulate(build_scene(sm.input.scene, [*sm.params.overrides, level_override(sm.config, pick[level.column])],
+                                   sample["settings"], f"{variant}:s{pick['sample']}"), progress=False)
     row = outcome_row(outcome)
     if (row.P_max_kN, row.failure_mode) != (pick.P_max_kN, pick.failure_mode):
         raise RuntimeError(f"{variant} s{pick['sample']} at {at_level}: the rerun gives P_max "

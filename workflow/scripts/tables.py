@@ -8,7 +8,7 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem import captions  # noqa: E402
+from masonrydem.report import captions  # noqa: E402
 
 for name, title in sm.params.titles.items():
     table = pd.read_csv(sm.input[name])

@@ -1,0 +1,9 @@
+"""What a study's runs say: statistics with bootstrap intervals
+(statistics.py), prediction equations (equations.py) and ``predict``
+(predict.py), Sobol indices (sensitivity.py), characteristic strengths
+(fractiles.py), the equations on other brick formats (brick_formats.py),
+the deterministic tables, design rules and the source paper's scorecard
+(validation.py), and what accuracy costs in time (accuracy.py).
+
+Every function takes the study's names and numbers (its inputs' columns,
+its swept setting, its terms) as arguments."""

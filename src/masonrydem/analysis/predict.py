@@ -1,0 +1,178 @@
+"""A study's prediction equations as a tool: ``masonrydem predict`` and
+``predict()``.
+
+The study's regression (workflow/scripts/regression.py) writes a
+predictor file (results/study/predictor.json): the Lasso equation of each
+failure mode (the strength in MPa, a function of the terms the study file
+names), the inputs the equations use with their units, the range of each
+they were fitted on, the wallette they hold for (its
+section, thickness and shear span, to turn a strength into a load), and
+each equation's out-of-fold residuals, as simulated over predicted
+strength: the error on a wallette the fit had not seen (nested 5-fold
+cross-validation, folds of whole samples).
+
+``predict`` evaluates both equations; the lower one governs (the lower of
+two, as the study scores it) and names the failure mode.  Its 95 %
+prediction interval is the predicted strength times the 2.5 and 97.5 %
+quantiles of that mode's out-of-fold ratios.  Inputs outside the fitted
+range are refused: the equations are a fit over that range, nothing more.
+"""
+import json
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..specimen.quantities import is_plain, meant, shown, to_shown, to_si
+
+def build(fits, ns, scene, source, columns, units, variant, settings=None, raw_bending=None):
+    """The predictor of the fitted equations ``fits`` (equations.
+    prediction_equations: mode -> (equation, strengths)) on the runs
+    ``ns``, for the wallette of the typed ``scene``; ``source``: where the
+    runs came from (named in the printout); ``columns`` and ``units``: each
+    input's column in ``ns`` and its SI unit (Study.columns, Study.units);
+    ``variant``: the study's variant the runs are of; ``settings``: the scene setting each random input drives;
+    ``raw_bending``: the scene file's loading.bending as written (whether
+    its section is the wall as built and its spans in unit lengths: then
+    both follow a brick that the inputs change, ``wallette_at``)."""
+    from ..study.terms import parse_term
+    used = dict.fromkeys(name for eq, _ in fits.values() for term in eq["coef"] for name in parse_term(term, units)[1])
+    g, bend = scene.geometry, scene.loading.bending
+    modes = {}
+    for mode, (eq, _) in fits.items():
+        g_mode = ns[ns.failure_mode == mode]
+        ratio = g_mode.strength_mpa.to_numpy() / eq["cv_predicted"]
+        modes[mode] = dict(intercept=eq["intercept"], coef=eq["coef"], n=eq["n"], cv_mape_pct=eq["cv_mape"],
+                           ratio_q025=float(np.quantile(ratio, 0.025)), ratio_q975=float(np.quantile(ratio, 0.975)))
+    return dict(
+        source=source, scene=scene.name, variant=variant, modes=modes,
+        inputs={name: dict(unit=units[name], shown=shown(units[name])[0], column=columns[name],
+                            **({"setting": settings[name]} if name in (settings or {}) else {})) for name in used},
+        fitted_range={name: [float(ns[columns[name]].min()), float(ns[columns[name]].max())] for name in used},
+        wallette=dict(courses=g.courses, units_per_course=g.units_per_course,
+                      unit_mm=[g.unit_length * 1e3, g.unit_height * 1e3, g.unit_width * 1e3],
+                      joint_mm=g.joint_thickness * 1e3, section_height_m=bend.section_height,
+                      thickness_m=g.unit_width, shear_span_m=bend.shear_span,
+                      section_as_built=raw_bending is not None and "section_height" not in raw_bending,
+                      spans_in_units=raw_bending is not None and "shear_span_units" in raw_bending))
+
+
+BRICK = ("geometry.unit.length", "geometry.unit.height", "geometry.unit.width", "geometry.joint_thickness")
+
+
+def wallette_at(p, x):
+    """The predictor's wallette with the brick the inputs ``x`` (in the
+    units shown) give, where they drive its size: its thickness is the
+    brick's width, and its section (the wall as built) and shear span (in
+    unit lengths) follow the brick where the scene gave them so."""
+    w = dict(p["wallette"])
+    given = {spec["setting"]: x[name] * shown(spec["unit"])[1] for name, spec in p["inputs"].items()
+             if spec.get("setting") in BRICK}
+    if not given:
+        return w
+    before = [v / 1e3 for v in w["unit_mm"]] + [w["joint_mm"] / 1e3]
+    L, H, W, t = (given.get(k, v) for k, v in zip(BRICK, before))
+    if w.get("section_as_built"):
+        w["section_height_m"] = w["courses"] * H + (w["courses"] - 1) * t
+    if w.get("spans_in_units"):
+        w["shear_span_m"] *= (L + t) / (before[0] + before[3])
+    w.update(unit_mm=[L * 1e3, H * 1e3, W * 1e3], joint_mm=t * 1e3, thickness_m=W, brick_from_inputs=True)
+    return w
+
+
+def _value(eq, x):
+    from .equations import predict as evaluate
+    return float(evaluate(eq, x).item())
+
+
+@dataclass(frozen=True)
+class Prediction:
+    strength_mpa: float         # the governing (lower) equation's
+    mode: str                   # joint or brick
+    interval_mpa: tuple         # 95 % prediction interval
+    load_kN: float              # P: the total of the two line loads
+    interval_kN: tuple
+    by_mode: dict               # mode -> strength (MPa)
+    inputs: dict                # input -> its value in the unit shown (MPa, mm, deg)
+    units: dict                 # input -> that unit
+    wallette: dict
+    source: str
+
+    def lines(self):
+        w = self.wallette
+        which = "for this brick's wallette" if w.get("brick_from_inputs") else "for the wallette they were fitted on"
+        out = [f"the equations of {self.source}, {which}: {_wallette(w)}; section "
+               f"b = {w['section_height_m']:g} m, thickness h = {w['thickness_m']:g} m, shear span a = "
+               f"{w['shear_span_m']:.4g} m (sigma = 6 M / (b h^2), M = P a / 2)",
+               "  " + ", ".join(f"{k} {v:g} {self.units[k]}".rstrip() for k, v in self.inputs.items())]
+        out += [f"  {m} failure: {s:.3f} MPa" for m, s in self.by_mode.items()]
+        lo, hi = self.interval_mpa
+        out.append(f"governing: {self.mode} failure, strength {self.strength_mpa:.3f} MPa (95 % prediction interval "
+                   f"{lo:.3f} to {hi:.3f} MPa), load P = {self.load_kN:.2f} kN ({self.interval_kN[0]:.2f} to "
+                   f"{self.interval_kN[1]:.2f} kN)")
+        return out
+
+
+def _wallette(w):
+    unit = " x ".join(f"{x:g}" for x in w["unit_mm"])
+    return f"{w['courses']} courses x {w['units_per_course']} units of {unit} mm, joints {w['joint_mm']:g} mm"
+
+
+def load(path):
+    try:
+        with open(path) as f:
+            p = json.load(f)
+    except OSError as e:
+        raise InputError("predictor", f"cannot read {path}: {e.strerror} (the study's regression writes it: "
+                                    "snakemake --cores 2 results/study/predictor.json)") from None
+    except ValueError as e:
+        raise InputError("predictor", f"{path} is not a predictor file: {e}") from None
+    if "inputs" not in p:
+        raise InputError("predictor", f"{path} is a predictor of an older version (it does not name its inputs): "
+                                    "rerun the study's regression, which writes it")
+    return p
+
+
+def predict(study, options=None, **inputs):
+    """The prediction at the ``inputs`` the equations use (quantities such
+    as '3.5 MPa', or numbers in SI); ``study``: a predictor file or its
+    mapping (build);
+    ``options``: input -> how the caller named it (in errors; the input's
+    name by default)."""
+    p = load(study) if isinstance(study, str) else study
+    source = p["source"] if isinstance(study, dict) else f"{study} ({p['source']})"
+    options = options or {}
+    unknown = sorted(set(inputs) - set(p["inputs"]))
+    if unknown:
+        raise InputError(options.get(unknown[0], unknown[0]), f"the equations have no input {unknown[0]!r}: they "
+                                                               f"take {', '.join(p['inputs'])}")
+    x = {name: _checked(p, name, spec, inputs, options.get(name, name)) for name, spec in p["inputs"].items()}
+    by_mode = {m: _value(eq, x) for m, eq in p["modes"].items()}
+    mode = min(by_mode, key=by_mode.get)
+    s, eq = by_mode[mode], p["modes"][mode]
+    w = wallette_at(p, x)
+    to_kN = w["section_height_m"] * w["thickness_m"] ** 2 / 6.0 / (0.5 * w["shear_span_m"]) * 1e3  # MPa -> kN
+    interval = (s * eq["ratio_q025"], s * eq["ratio_q975"])
+    return Prediction(strength_mpa=s, mode=mode, interval_mpa=interval, load_kN=s * to_kN,
+                      interval_kN=tuple(v * to_kN for v in interval), by_mode=by_mode, inputs=x,
+                      units={k: spec["shown"] for k, spec in p["inputs"].items()},
+                      wallette=w, source=source)
+
+
+def _checked(p, name, spec, inputs, option):
+    """The input ``name`` in the unit shown, refused outside the fitted range."""
+    if name not in inputs:
+        raise InputError(option, f"missing: the equations take {', '.join(p['inputs'])}")
+    value, unit = inputs[name], spec["unit"]
+    x = to_shown(to_si(value, unit, option), unit)
+    lo, hi = p["fitted_range"][name]
+    if not lo <= x <= hi:
+        plain = is_plain(value)
+        size = shown(unit)[1]
+        guess = meant(float(value), unit, lo * size, hi * size) if plain else None
+        raise InputError(option, f"{f'{float(value):g} {unit}'.rstrip() if plain else value} is outside the range "
+                                 f"the equations were fitted on, {lo:.3g} to {hi:.3g} {spec['shown']}".rstrip()
+                         + (f": did you mean {guess}?" if guess else "")
+                         + f" (they hold only there, and only for the wallette of the scene {p['scene']!r}: "
+                         f"{_wallette(p['wallette'])})")
+    return x

@@ -1,0 +1,371 @@
+"""What the workflow runs: the run ids of every stage and the scene
+overrides of each simulation job, from the workflow's config
+(config/config.yaml, validated by config/schema.yaml).  The file paths are
+the workflow's (workflow/rules/common.smk); this module names the runs and
+says what each one overrides."""
+
+from dataclasses import replace
+from functools import lru_cache
+
+
+
+def effective(*lists):
+    """Scene overrides in order, without those a later one replaces (same
+    key): the parameters then say only what a run uses, so that changing a
+    default that a run overrides anyway does not rerun it."""
+    flat = [o for lst in lists for o in lst]
+    keys = [o.split("=", 1)[0] for o in flat]
+    return [o for i, o in enumerate(flat) if keys[i] not in keys[i + 1:]]
+
+
+def _by_name(cases):
+    return {c["name"]: c["overrides"] for c in cases}
+
+
+# --- validation ----------------------------------------------------------
+def validation_runs(config):
+    """Run ids '<case>_sv<sigma_v>': every case at every precompression."""
+    v = config["validation"]
+    return [f"{c['name']}_sv{sv}" for c in v["cases"] for sv in v["precompression_mpa"]]
+
+
+def validation_overrides(config, case, sv):
+    """One validation run: its case's overrides plus the precompression
+    (``sv`` in MPa, as in its run id)."""
+    return effective(config["numerics"], _by_name(config["validation"]["cases"])[case], [pressure(sv)])
+
+
+# --- hard cases (issue 6) ---------------------------------------------------
+def hard_case_jobs(config):
+    """Run id -> scene overrides (after config 'numerics') of the hard cases
+    (config 'hard_cases', issue 6) and of their half-rate reruns
+    ('<name>_half_rate', overrides config 'half_rate')."""
+    jobs = {}
+    for c in config.get("hard_cases", []):
+        jobs[c["name"]] = list(c["overrides"])
+        if c.get("half_rate"):
+            jobs[c["name"] + "_half_rate"] = list(c["overrides"]) + list(config["half_rate"])
+    return jobs
+
+
+def hard_case_expect(config):
+    """Case -> the failure mode its strengths call for ('any': a
+    trustworthy number or a clear status)."""
+    return {c["name"]: c["expect"] for c in config.get("hard_cases", [])}
+
+
+def hard_case_overrides(config, run):
+    return effective(config["numerics"], hard_case_jobs(config)[run])
+
+
+# --- reduced models (issue 7) ---------------------------------------------
+def reduced_runs(config):
+    """(case, model) of every reduced-model run, case by case."""
+    r = config.get("reduced")
+    return [(c["name"], m) for c in r["cases"] for m in r["models"]] if r else []
+
+
+def reduced_overrides(config, case, model):
+    r = config["reduced"]
+    return effective(config["numerics"], _by_name(r["cases"])[case], r["models"][model])
+
+
+# --- the model-form study (issue 33) ---------------------------------------------
+def modelform_options(assumptions):
+    """The options of config 'modelform''s ``assumptions`` by run name:
+    '<assumption>_<k>' (k = 1, 2, ...) -> (assumption, option), and
+    'baseline' (the scene as it stands) -> ('baseline', None)."""
+    return {"baseline": ("baseline", None)} | {f"{a['name']}_{k}": (a["name"], o) for a in assumptions
+                                               for k, o in enumerate(a["options"], start=1)}
+
+
+def modelform_labels(config):
+    """Run name -> (assumption, the option's label; 'as modelled' for the
+    baseline) of the model-form study."""
+    return {k: (name, o["label"] if o else "as modelled")
+            for k, (name, o) in modelform_options(config["modelform"]["assumptions"]).items()}
+
+
+def modelform_runs(config):
+    """(case, sigma_v in MPa, option name) of every model-form run: per
+    case and level the baseline and each option of each assumption."""
+    m = config.get("modelform")
+    if not m:
+        return []
+    return [(c["name"], sv, o) for c in m["cases"] for sv in m["precompression_mpa"]
+            for o in modelform_options(m["assumptions"])]
+
+
+def modelform_overrides(config, case, sv, option):
+    m = config["modelform"]
+    _, opt = modelform_options(m["assumptions"])[option]
+    return effective(config["numerics"], _by_name(m["cases"])[case], [pressure(sv)], opt["overrides"] if opt else [])
+
+
+# --- further specimens (issue 7) --------------------------------------------
+def specimen_cases(config):
+    """Case -> {name, scene, overrides} of the further specimens."""
+    return {c["name"]: c for c in config.get("specimens", [])}
+
+
+# --- the stochastic study -----------------------------------------------------
+def study(config):
+    """The typed study of the config: its study file (study.file), with
+    the config's samples, seed and levels where given (config/smoke.yaml:
+    a small study of the same file)."""
+    s = config["study"]
+    levels = tuple(str(x) for x in s["levels"]) if "levels" in s else None
+    return _study(s["file"], s.get("samples"), s.get("seed"), levels)
+
+
+@lru_cache(maxsize=None)
+def _study(path, samples, seed, levels):
+    from ..study.file import load_study, with_levels
+    st = load_study(path)
+    changes = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
+    if levels is not None:
+        st = with_levels(st, [_number(x) for x in levels], "study.levels")
+    return replace(st, **changes)
+
+
+def _number(text):
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def study_items(config):
+    """The study's wallette (its scene with the study's rules) as the
+    sampling needs it: its units and joints, each an (x, z) on the wall's
+    face (m), in the order of the per-unit and per-joint settings."""
+    from ..specimen.scene import build_scene
+    st = study(config)
+    centres = build_scene(st.scene, settings=st.rules).geometry.item_centres()
+    return {what: centres[what].tolist() for what in ("unit", "joint")}
+
+
+def study_levels(config):
+    """The study's levels of its swept setting, in the unit the runs table
+    shows them in (the precompression in MPa)."""
+    from ..specimen.quantities import to_shown
+    st = study(config)
+    return [to_shown(level, st.units[st.sweep_name]) for level in st.levels]
+
+
+def study_level_dirs(config):
+    """The runs' folder of each level (the wildcard level): the sweep's
+    name and the level as shown, sigma_v0.15."""
+    return [f"{study(config).sweep_name}{x!r}" for x in study_levels(config)]
+
+
+def level_override(config, level):
+    """The scene override of a level: by its folder name (the wildcard) or
+    its value as shown (a runs table's level column)."""
+    st = study(config)
+    dirs, shown = study_level_dirs(config), study_levels(config)
+    k = dirs.index(level) if isinstance(level, str) else min(range(len(shown)), key=lambda i: abs(shown[i] - level))
+    return f"{st.sweep_setting}={float(st.levels[k])}"
+
+
+def analysis(config):
+    """What the study's analysis needs of its study file (``spec``)."""
+    return spec(study(config))
+
+
+def spec(st):
+    """What a study's analysis needs of its typed study: its name, the
+    equations' terms, each input's column in the runs table, the swept
+    setting, its name, column and unit shown, the variables' means (in the
+    columns' units), each input's SI unit, the variants and the one the
+    equations are fitted on (None: no equations), and whether it sweeps the
+    precompression.  Plain data: a workflow rule's parameter."""
+    return dict(study=st.name, terms=list(st.features), columns=st.columns(), setting=st.sweep_setting,
+                level=st.sweep_name, level_column=st.level_column(), level_unit=st.level_unit(), means=st.means(),
+                units=dict(st.units), variants=list(st.variants), regression_variant=st.regression_variant,
+                precompression=st.sweeps_precompression)
+
+
+def further_study(workflow_config):
+    """What a further study's report page needs of its study file (its
+    workflow config's study.file): the variant its equations are fitted
+    on, its swept setting's column and the unit it is shown in."""
+    import yaml
+    with open(workflow_config) as f:
+        path = yaml.safe_load(f)["study"]["file"]
+    st = _study(path, None, None, None)
+    return dict(variant=st.regression_variant, level_column=st.level_column(), level_unit=st.level_unit())
+
+
+def study_variants(config):
+    return list(study(config).variants)
+
+
+def study_pictures(config):
+    """(variant, failure mode) of the study's 3-D pictures."""
+    return [(v, m) for v in study_variants(config) for m in ("joint", "brick")]
+
+
+# --- the accuracy study (issues 5, 22) -----------------------------------------
+def path_setting(cells):
+    """Setting id of a level of the refinement path."""
+    return "path_c{}x{}x{}".format(*cells)
+
+
+def path_settings(config):
+    """Setting ids of the refinement path (the elasto-plastic model, each
+    case's converged reference), coarse to fine."""
+    acc = config.get("accuracy")
+    return [path_setting(c) for c in acc["path"]["cells"]] if acc else []
+
+
+def candidate_settings(config):
+    """Setting ids of the candidates for the defaults."""
+    acc = config.get("accuracy")
+    return [c["name"] for c in acc["candidates"]] if acc else []
+
+
+def accuracy_settings(acc, case):
+    """Setting id -> overrides (after config 'numerics' and the case's) of
+    every run of ``case``: the path levels (the path's overrides and their
+    cells), the candidates, the defaults themselves ('default') and one
+    setting changed at a time around the defaults or around the candidate
+    or path level named by 'around'.  A case's 'path_overrides' apply to its
+    path levels only."""
+    own = next(c.get("path_overrides", []) for c in acc["cases"] if c["name"] == case)
+    path = {path_setting(c): [*acc["path"]["overrides"], *own, f"numerics.cells={list(c)}"]
+            for c in acc["path"]["cells"]}
+    named = {**path, **{c["name"]: list(c["overrides"]) for c in acc["candidates"]}}
+    out = {**named, "default": []}
+    for s in acc["settings"]:
+        if "around" in s and s["around"] not in named:
+            raise ValueError(f"config accuracy.settings {s['name']}.around: {s['around']!r} is neither a candidate "
+                             "nor a path level")
+        if case in s.get("cases", [c["name"] for c in acc["cases"]]):
+            for v in s["values"]:
+                out[f"{s['name']}_{v}"] = [*named.get(s.get("around"), []), f"{s['key']}={v}"]
+    return out
+
+
+def accuracy_baselines(config):
+    """One-at-a-time setting id -> the setting it varies ('default' or its 'around')."""
+    acc = config.get("accuracy")
+    return {f"{s['name']}_{v}": s.get("around", "default") for s in acc["settings"] for v in s["values"]} if acc else {}
+
+
+def accuracy_cases(config):
+    acc = config.get("accuracy")
+    return [c["name"] for c in acc["cases"]] if acc else []
+
+
+def accuracy_runs(config):
+    """(case, setting) of every accuracy run."""
+    acc = config.get("accuracy")
+    return [(c["name"], s) for c in acc["cases"] for s in accuracy_settings(acc, c["name"])] if acc else []
+
+
+def accuracy_overrides(config, case, setting):
+    acc = config["accuracy"]
+    return effective(config["numerics"], _by_name(acc["cases"])[case], accuracy_settings(acc, case)[setting])
+
+
+def scaling_courses(config):
+    acc = config.get("accuracy")
+    return acc["scaling_courses"] if acc else []
+
+
+def scaling_settings(config):
+    """The path levels, whose run time gives the cost against the cells per edge."""
+    return path_settings(config)
+
+
+def scaling_overrides(config, courses):
+    """The defaults on a wallette of ``courses`` courses (run time against
+    the number of units)."""
+    return config["numerics"] + [f"geometry.courses={courses}"]
+
+
+def subsample_fine(config):
+    """The fine settings of the accuracy subsample (complete: independent
+    of the defaults)."""
+    acc = config.get("accuracy")
+    return acc["subsample"]["fine"] if acc else []
+
+
+def reference_runs(config):
+    """(case, setting) of the runs that make the accuracy study's
+    references: the path levels and the settings varied around one.  Their
+    results are kept in a table of their own (rule accuracy_references,
+    hours of runs), which the summary reads instead of rerunning them
+    whenever the defaults move; the path's overrides pin the numerics the
+    defaults set (damping)."""
+    acc = config.get("accuracy")
+    if not acc:
+        return []
+    path = set(path_settings(config))
+    around = {f"{s['name']}_{v}" for s in acc["settings"] if s.get("around") in path for v in s["values"]}
+    return [(c, s) for c, s in accuracy_runs(config) if s in path or s in around]
+
+
+def reference_checks(config):
+    """(case, setting) of the coarsest path level of every case: rerun with
+    each summary and compared with the references' table, so a table made
+    by another solver is refused, not read."""
+    first = path_settings(config)[:1]
+    return [(c, s) for c, s in accuracy_runs(config) if s in first]
+
+
+# --- checks at planning -----------------------------------------------------------
+def planned_scenes(config):
+    """(where, scene file, overrides) of every kind of simulation the config
+    plans: ``where`` names the config's setting (and the run) it comes from."""
+    scene, numerics = config["scene"], config["numerics"]
+    out = [("numerics", scene, numerics)]
+    out += [(f"study levels ({level})", study(config).scene, effective(numerics, [level_override(config, level)]))
+            for level in study_level_dirs(config)]
+    v = config["validation"]
+    out += [(f"validation.cases ({c['name']} at {sv} MPa)", scene, validation_overrides(config, c["name"], sv))
+            for c in v["cases"] for sv in v["precompression_mpa"]]
+    out += [(f"hard_cases ({run})", scene, hard_case_overrides(config, run)) for run in hard_case_jobs(config)]
+    out += [(f"reduced ({case}, model {model})", scene, reduced_overrides(config, case, model))
+            for case, model in reduced_runs(config)]
+    out += [(f"specimens ({name})", c["scene"], c["overrides"]) for name, c in specimen_cases(config).items()]
+    out += [(f"modelform ({case} at {sv} MPa, {option})", scene, modelform_overrides(config, case, sv, option))
+            for case, sv, option in modelform_runs(config)]
+    out += [(f"accuracy ({case}, setting {setting})", scene, accuracy_overrides(config, case, setting))
+            for case, setting in accuracy_runs(config)]
+    out += [(f"accuracy.scaling_courses ({n})", scene, scaling_overrides(config, n)) for n in scaling_courses(config)]
+    if config.get("accuracy"):
+        out += [(f"accuracy.subsample.fine ({sv} MPa)", scene, effective(subsample_fine(config), [pressure(sv)]))
+                for sv in config["accuracy"]["subsample"]["precompression_mpa"]]
+    return out
+
+
+def pressure(sv_mpa):
+    """The override of a precompression level (MPa)."""
+    from ..specimen.scene import PRECOMPRESSION
+    return f"{PRECOMPRESSION}={float(sv_mpa) * 1e6}"
+
+
+def check(config):
+    """Refuses, at planning, what config/schema.yaml cannot: a NaN or an
+    infinity anywhere, and overrides that a planned simulation's scene
+    refuses (each distinct
+    scene and overrides validated as the run will be; cheap: no model is
+    built).  Raises InputError naming the config's setting."""
+    from ..errors import InputError, check_finite
+    from ..specimen.files import read_scene
+    from ..specimen.scene import build_scene
+    check_finite(config)
+    scenes, done = {}, set()
+    for where, scene, overrides in planned_scenes(config):
+        if (scene, tuple(overrides)) in done:
+            continue
+        done.add((scene, tuple(overrides)))
+        try:
+            if scene not in scenes:
+                scenes[scene] = read_scene(scene)
+            build_scene(scenes[scene], overrides)
+        except InputError as e:
+            raise InputError(where, f"the scene {scene} with the overrides {list(overrides)} is refused: {e}") from None
+    return config

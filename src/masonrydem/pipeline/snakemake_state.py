@@ -1,0 +1,59 @@
+"""The one place that reads or writes Snakemake's own state: its record of
+each output (the metadata store that decides reruns), which the workflow
+saves for a clone and puts back (workflow/rules/provenance.smk).
+
+The layout is Snakemake's file persistence as read from Snakemake 9.27
+(snakemake/persistence/file.py, FilePersistence._record_path): a record is
+a JSON file under .snakemake/metadata whose name is the output's path in
+URL-safe base64, cut into names one shorter than the file system allows
+(255 on Linux, so 254), all but the last prefixed with '@' as folders.
+pyproject.toml pins Snakemake to the range this was read from, and
+tests/test_snakemake_state.py runs Snakemake and fails when its records
+are not where ``record_path`` says.
+"""
+import json
+import os
+from base64 import urlsafe_b64encode
+from pathlib import Path
+
+METADATA = Path(".snakemake") / "metadata"
+
+
+def record_path(path, root=METADATA):
+    """Where Snakemake keeps the record of the output ``path`` (as the
+    workflow names it, relative to its working directory)."""
+    longest = os.pathconf(root if Path(root).exists() else ".", "PC_NAME_MAX") if os.name == "posix" else 255
+    cut = (longest or 255) - 1
+    b64 = urlsafe_b64encode(str(path).encode()).decode()
+    parts = [b64[i:i + cut] for i in range(0, len(b64), cut)]
+    return Path(root).joinpath(*[f"@{p}" for p in parts[:-1]], parts[-1])
+
+
+def read_record(path, root=METADATA):
+    """The record of ``path`` (a dict), or None where there is none."""
+    try:
+        return json.loads(record_path(path, root).read_text())
+    except (OSError, ValueError):
+        return None
+
+
+def write_record(path, record, root=METADATA):
+    """Writes the record of ``path``."""
+    where = record_path(path, root)
+    where.parent.mkdir(parents=True, exist_ok=True)
+    where.write_text(json.dumps(record))
+
+
+def stop_rate_limiter_timers():
+    """Once the workflow has ended: cancel the timers of Snakemake's job
+    rate limiter (profiles/default).  Every scheduling round arms one,
+    to schedule again one timespan (30 s) later, as a non-daemon thread,
+    so that Snakemake waited up to 30 s after its last job before it
+    exited.  Only the rate limiter's timers are cancelled (Snakemake 9's
+    JobScheduler._schedule_reevalutation); under another name they would
+    merely run out."""
+    import threading
+    for timer in threading.enumerate():
+        if isinstance(timer, threading.Timer) and \
+                "_schedule_reevalutation" in getattr(timer.function, "__qualname__", ""):
+            timer.cancel()

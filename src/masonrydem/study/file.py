@@ -1,0 +1,251 @@
+"""A study defined in a file (schema: study_schema.yaml; the Willis study:
+config/studies/willis.yaml).
+
+``load_study`` reads and validates it into a typed ``Study``: each random
+variable with its distribution in SI (quantities converted in the unit of
+the scene setting it drives), the correlations as a mapping of pairs, the
+variants and how they draw, the rules and the swept levels as scene
+settings.  Every reference is checked against the scene before anything
+is drawn: a variable's setting, a rule, the swept setting (the scene is
+validated with each variable at its mean and each level in turn), a
+correlation's variables and a regression feature.  Errors name the field
+as the study file writes it, prefixed by 'study.'.
+"""
+from dataclasses import dataclass, replace
+from importlib import resources
+
+from jsonschema import Draft202012Validator
+
+from ..errors import InputError, check_finite
+from ..specimen.files import read_scene, read_yaml
+from ..specimen.quantities import column, shown, to_shown, to_si
+from ..specimen.scene import PRECOMPRESSION, build_scene, setting_unit
+from .sampling import Variable
+from .settings import PER_ITEM
+from .terms import parse_term
+
+SCHEMA = read_yaml(resources.files(__package__).joinpath("study_schema.yaml").read_text())
+
+
+@dataclass(frozen=True)
+class Study:
+    name: str
+    scene: str                 # the scene file
+    samples: int
+    seed: int
+    variables: tuple           # sampling.Variable, in the file's order
+    correlations: dict         # (name, name) -> rho
+    variants: dict             # name -> {'draw': wallette, items or field, 'correlation_length': m or None}
+    rules: dict                # dotted scene setting -> value
+    sweep_setting: str
+    levels: tuple              # SI
+    features: tuple            # the equations' terms (study/terms.py)
+    sweep_name: str            # the swept setting's name as an input
+    units: dict                # input (a variable or the sweep's name) -> its SI unit
+    regression_variant: str = None   # the variant the equations are fitted on (None: none fitted)
+
+    def variable(self, name):
+        return next(v for v in self.variables if v.name == name)
+
+    def column(self, name):
+        """The runs table's column of an input (a variable, or the swept
+        setting by its name): the name and the unit it is shown in,
+        f_tj_mpa, sigma_v_mpa, t_mm."""
+        return column(name, self.units[name])
+
+    def columns(self):
+        """Input -> its column, the variables' and the sweep's."""
+        return {name: self.column(name) for name in self.units}
+
+    def level_column(self):
+        return self.column(self.sweep_name)
+
+    def means(self):
+        return input_means(self.variables)
+
+    def per(self, what):
+        """The variables carried per unit or per joint, in the file's order."""
+        return tuple(v for v in self.variables if v.per == what)
+
+    def mean_settings(self):
+        """The scene settings of the wallette of mean properties: the rules
+        and each variable at its mean (its distribution's, where the file
+        gives none)."""
+        return {**self.rules, **{v.setting: v.mean if v.mean is not None else float(v.frozen().mean())
+                                 for v in self.variables}}
+
+    @property
+    def sweeps_precompression(self):
+        """Whether the swept setting is the vertical precompression (the
+        design rules are functions of it)."""
+        return self.sweep_setting == PRECOMPRESSION
+
+    def level_unit(self):
+        """The unit the runs table shows the swept setting in (MPa)."""
+        return shown(self.units[self.sweep_name])[0]
+
+
+def load_study(path):
+    """The typed study of the file at ``path``; InputError names the field."""
+    raw = read_scene(path, "study")
+    raw = _fail_prefixed(lambda: _validated(raw))
+    return _fail_prefixed(lambda: _typed(raw))
+
+
+def _fail_prefixed(fn):
+    try:
+        return fn()
+    except InputError as e:
+        raise InputError(f"study.{e.field}", e.reason) from None
+
+
+def _validated(raw):
+    check_finite(raw)
+    errors = sorted(Draft202012Validator(SCHEMA).iter_errors(raw), key=lambda e: list(e.absolute_path))
+    if errors:
+        e = errors[0]
+        raise InputError(".".join(str(p) for p in e.absolute_path) or "study", e.message)
+    return raw
+
+
+def _unit(setting, field):
+    unit = setting_unit(setting)
+    if unit is None:
+        raise InputError(field, f"{setting!r} is not a numeric setting of a scene (scene_schema.yaml)")
+    return unit
+
+
+def _variable(name, v):
+    field = f"variables.{name}"
+    unit = _unit(v["setting"], f"{field}.setting")
+    q = {k: to_si(v[k], unit, f"{field}.{k}") for k in ("mean", "sd") if k in v}
+    bounds = tuple(to_si(b, unit, f"{field}.bounds.{i}") for i, b in enumerate(v.get("bounds", ())))
+    dist = v["distribution"]
+    if dist in ("uniform", "truncated_normal") and not bounds:
+        raise InputError(field, f"a {dist} distribution needs bounds: [min, max]")
+    if bounds and not bounds[0] < bounds[1]:
+        raise InputError(f"{field}.bounds", f"min must be below max, got {v['bounds']}")
+    if dist != "uniform":
+        if "mean" not in q or ("cov" in v) == ("sd" in q):
+            raise InputError(field, f"a {dist} distribution needs mean and one of cov or sd")
+    if v.get("per") and not any(v["setting"].startswith(p[0]) for p in PER_ITEM.values()):
+        raise InputError(f"{field}.per", f"{v['setting']} is not a property of units or joints")
+    return Variable(name=name, dist=dist, mean=q.get("mean"), cov=v.get("cov"), sd=q.get("sd"),
+                    bounds=bounds or None, setting=v["setting"], per=v.get("per"))
+
+
+def _variant(name, raw, variables):
+    """{'draw': ..., 'correlation_length': m or None} of a variant."""
+    field, draw = f"variants.{name}", raw["draw"]
+    missing = [v.name for v in variables if draw != "wallette" and not v.per]
+    if missing:
+        raise InputError(f"{field}.draw", f"draws per item, but {', '.join(missing)} has no 'per'")
+    if (draw == "field") != ("correlation_length" in raw):
+        raise InputError(f"{field}.correlation_length", "a field needs its correlation length, and only a field has one")
+    length = to_si(raw["correlation_length"], "m", f"{field}.correlation_length") if draw == "field" else None
+    if length is not None and not length > 0:
+        raise InputError(f"{field}.correlation_length", f"must be above 0, got {raw['correlation_length']!r}")
+    return {"draw": draw, "correlation_length": length}
+
+
+def _typed(raw):
+    variables = tuple(_variable(n, v) for n, v in raw["variables"].items())
+    names = [v.name for v in variables]
+    correlations = {}
+    for i, c in enumerate(raw.get("correlations", [])):
+        for k, n in enumerate(c["between"]):
+            if n not in names:
+                raise InputError(f"correlations.{i}.between.{k}", f"{n!r} is not a variable ({', '.join(names)})")
+        correlations[tuple(c["between"])] = float(c["rho"])
+    variants = {n: _variant(n, v, variables) for n, v in raw["variants"].items()}
+    sweep = raw["sweep"]
+    unit = _unit(sweep["setting"], "sweep.setting")
+    levels = tuple(to_si(x, unit, f"sweep.levels.{i}") for i, x in enumerate(sweep["levels"]))
+    sweep_name = sweep.get("name", sweep["setting"].rsplit(".", 1)[-1])
+    if sweep_name in names:
+        raise InputError("sweep.name", f"{sweep_name!r} is a variable's name too: name the sweep otherwise")
+    units = {**{v.name: _unit(v.setting, f"variables.{v.name}.setting") for v in variables}, sweep_name: unit}
+    features = tuple((raw.get("regression") or {}).get("features", units))     # each input, linear
+    for i, term in enumerate(features):
+        _fail_prefixed_at(f"regression.features.{i}", lambda: parse_term(term, units))
+    rules = {k: _rule_si(k, v) for k, v in raw.get("rules", {}).items()}
+    study = Study(name=raw["name"], scene=raw["scene"], samples=raw["samples"], seed=raw["seed"], variables=variables,
+                  correlations=correlations, variants=variants, rules=rules,
+                  sweep_setting=sweep["setting"], levels=levels, features=features,
+                  sweep_name=sweep_name, units=units, regression_variant=_regression_variant(raw, variants))
+    _check_against_scene(study)
+    return study
+
+
+def _regression_variant(raw, variants):
+    """The variant the equations are fitted on: the file's regression.variant,
+    else the first that draws one value per wallette (a run's inputs are
+    then the sample's own); None when no variant does."""
+    given = (raw.get("regression") or {}).get("variant")
+    if given is None:
+        return next((n for n, v in variants.items() if v["draw"] == "wallette"), None)
+    if given not in variants:
+        raise InputError("regression.variant", f"{given!r} is not a variant ({', '.join(variants)})")
+    if variants[given]["draw"] != "wallette":
+        raise InputError("regression.variant", f"{given!r} draws per {variants[given]['draw']}: the equations are "
+                                               "fitted on a variant that draws one value per wallette")
+    return given
+
+
+def _rule_si(key, value):
+    """A rule's value in SI, quantities converted in the unit of the scene
+    setting at ``key`` (in a mapping, each of its keys'): a job then passes
+    plain numbers, and never loads the units library."""
+    if isinstance(value, dict):
+        return {k: _rule_si(f"{key}.{k}", v) for k, v in value.items()}
+    return to_si(value, _unit(key, f"rules.{key}"), f"rules.{key}") if setting_unit(key) is not None else value
+
+
+def _check_against_scene(study):
+    """The scene takes the rules, each variable at its mean (or mid-range)
+    and each swept level: a setting it does not have, or a value it
+    refuses, is found now, named as the study file writes it."""
+    base = _fail_scene("scene", lambda: read_scene(study.scene))
+    _fail_scene("rules", lambda: build_scene(base, settings=study.rules))
+    for v in study.variables:
+        _fail_scene(f"variables.{v.name}", lambda: build_scene(base, settings={**study.rules, v.setting: v.frozen().mean()}))
+    _check_levels(study, base, study.levels, "sweep.levels", lambda e: f"the scene refuses it: {e}")
+
+
+def _check_levels(study, base, levels, field, reason):
+    for i, level in enumerate(levels):
+        try:
+            build_scene(base, settings={**study.rules, study.sweep_setting: level})
+        except InputError as e:
+            raise InputError(f"{field}.{i}", reason(e)) from None
+
+
+def with_levels(study, levels, field):
+    """The study with other ``levels`` of its swept setting (quantities or
+    SI), each converted and checked by the scene as the file's are;
+    InputError names ``field``.N."""
+    unit = _unit(study.sweep_setting, field)
+    si = tuple(to_si(x, unit, f"{field}.{i}") for i, x in enumerate(levels))
+    _check_levels(study, read_scene(study.scene), si, field, lambda e: e.reason)
+    return replace(study, levels=si)
+
+
+def input_means(variables):
+    """Each variable's mean (its distribution's, for a uniform one) in the
+    unit the runs table shows it in."""
+    return {v.name: to_shown(v.mean if v.mean is not None else v.frozen().mean(), _unit(v.setting, v.name))
+            for v in variables}
+
+
+def _fail_prefixed_at(field, fn):
+    try:
+        return fn()
+    except ValueError as e:
+        raise InputError(field, str(e)) from None
+
+
+def _fail_scene(field, fn):
+    try:
+        return fn()
+    except InputError as e:
+        raise InputError(field, f"the scene refuses it: {e}") from None

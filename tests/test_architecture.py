@@ -1,0 +1,209 @@
+"""The package in layers (docs/architecture.md): each layer imports only
+from those below it (import-linter's contract in pyproject.toml), the
+solver's hash is taken by folder, the sampling's code holds nothing of the
+solver, and a study of other names, levels and variants runs through
+sampling, the row, the regression and predict with nothing in the code
+that knows it."""
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+import masonrydem
+from masonrydem import cli
+from masonrydem.analysis import equations as E
+from masonrydem.analysis import predict
+from masonrydem.pipeline import plan
+from masonrydem.pipeline.fingerprint import code_fingerprint, script_modules, simulation_module
+from masonrydem.specimen.row import read_json, write_json
+from masonrydem.specimen.scene import build_scene
+from masonrydem.study.file import load_study
+from masonrydem.study.sampling import records, wallette_samples
+from masonrydem.study.settings import record
+
+ROOT = Path(__file__).parent.parent
+PACKAGE = ROOT / "src" / "masonrydem"
+
+
+def test_no_layer_imports_one_above_it():
+    """import-linter's layers contract (pyproject.toml), run as `make test`
+    runs it: a kept contract and nothing broken."""
+    exe = Path(sys.executable).with_name("lint-imports")
+    r = subprocess.run([str(exe)], capture_output=True, text=True, cwd=ROOT)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "1 kept, 0 broken" in r.stdout
+
+
+def test_the_solver_hash_is_taken_by_folder():
+    """The hash's inputs are every source file of dem/, specimen/ and
+    errors.py, found by walking those folders: no marker line in any file
+    decides it."""
+    walked = sorted(p.relative_to(PACKAGE).as_posix() for item in ("dem", "specimen") for p in (PACKAGE / item).rglob("*")
+                    if p.suffix in (".py", ".yaml") and "__pycache__" not in p.parts) + ["errors.py"]
+    assert masonrydem.simulation_sources() == sorted(walked)
+    assert not any(b"ANALYSIS_ONLY" in p.read_bytes() for p in PACKAGE.rglob("*") if p.suffix in (".py", ".yaml"))
+
+
+def test_a_new_module_joins_the_hash_of_its_folder(tmp_path, monkeypatch):
+    """A copy of the package: a module added to specimen/ changes the
+    hash; one added to analysis/ does not."""
+    copy = tmp_path / "masonrydem"
+    shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    probe = ("import importlib, sys; sys.path.insert(0, sys.argv[1]); "
+             "import masonrydem; print(masonrydem.source_hash())")
+
+    def hash_of():
+        return subprocess.run([sys.executable, "-c", probe, str(tmp_path)], capture_output=True, text=True,
+                              check=True).stdout.strip()
+    before = hash_of()
+    (copy / "analysis" / "extra.py").write_text("X = 1\n")
+    assert hash_of() == before
+    (copy / "specimen" / "extra.py").write_text("X = 1\n")
+    assert hash_of() != before
+
+
+def test_the_sampling_code_holds_nothing_of_the_solver():
+    """The sample rule's script imports study.sampling and study.settings
+    only: no module of dem/ or specimen/ is in its fingerprint, which is
+    therefore not the solver's hash's; the collect rule's is."""
+    sample = script_modules(ROOT / "workflow" / "scripts" / "sample.py")
+    assert sample == {"", "study", "study.sampling", "study.settings"}
+    assert not any(simulation_module(m) for m in sample if m)
+    collect = script_modules(ROOT / "workflow" / "scripts" / "collect.py")
+    assert "dem.kernels.step" in collect and "specimen.row" in collect
+    assert len(code_fingerprint(ROOT / "workflow" / "scripts" / "sample.py")) == 16
+
+
+# --- a study of other names ------------------------------------------------------------
+OTHER = {
+    "name": "other_names",
+    "scene": "config/scenes/willis.yaml",
+    "samples": 12,
+    "seed": 5,
+    "variables": {
+        "bond": {"setting": "materials.joints.ft", "distribution": "lognormal", "mean": "0.35 MPa", "cov": 0.3},
+        "mor": {"setting": "materials.units.ft", "distribution": "normal", "mean": "4 MPa", "cov": 0.15},
+        "E_unit": {"setting": "materials.units.E", "distribution": "lognormal", "mean": "12 GPa", "cov": 0.2},
+    },
+    "correlations": [{"between": ["mor", "E_unit"], "rho": 0.4}],
+    "variants": {"per_wall": {"draw": "wallette"}},
+    "rules": {"materials.joints.GI_per_ft": "0.03 mm", "loading.bending.rate": 2.0e-7,
+              "loading.bending.ramp_steps": 500, "numerics.cells": [2, 1, 1]},
+    "sweep": {"setting": "loading.precompression.pressure", "name": "p", "levels": ["0 MPa", "0.1 MPa", "0.3 MPa"]},
+    "regression": {"features": ["bond", "mor", "p"]},
+}
+
+
+@pytest.fixture(scope="module")
+def other(tmp_path_factory):
+    path = tmp_path_factory.mktemp("study") / "other.yaml"
+    path.write_text(yaml.safe_dump(OTHER))
+    return load_study(str(path))
+
+
+def test_a_study_of_other_names_runs_through_the_row(other, tmp_path):
+    """Its samples as the sample rule writes them; a run of one (the command
+    line, as a workflow job runs it) reports bond_mpa, mor_mpa and
+    E_unit_mpa, the sample's values (the mean over the wallette's joints or
+    units of the value each holds, so to a digit); a sample the scene
+    refuses is recorded as an error row with its message and its inputs,
+    and the command exits 0 with --exit-zero (nothing crashes, nothing is
+    lost)."""
+    assert other.regression_variant == "per_wall" and other.columns()["p"] == "p_mpa"
+    table, _ = wallette_samples(other.samples, other.seed, other.variables, other.correlations)
+    recs = [record(r, "wallette", other.variables, other.rules) for r in records(table)]
+    bad = dict(recs[1], E_unit=5.0e12)         # beyond any plausible brick: the scene refuses it
+    bad["settings"] = dict(bad["settings"], **{"materials.units.E": 5.0e12})
+    samples = tmp_path / "samples.json"
+    write_json(samples, [recs[0], bad])
+    for n in (0, 1):
+        out = tmp_path / f"s{n}"
+        code = cli.main(["run", other.scene, "--samples", str(samples), "--sample", str(n), "--variant", "per_wall",
+                         "--set", "loading.precompression.pressure=0.1e6", "--out", str(out), "--format", "json",
+                         "--quiet", "--exit-zero"])
+        assert code == 0
+    good, refused = read_json(tmp_path / "s0" / "result.json"), read_json(tmp_path / "s1" / "result.json")
+    assert good["ok"] and good["variant"] == "per_wall" and good["sample"] == 0
+    assert (good["bond_mpa"], good["mor_mpa"], good["E_unit_mpa"]) == pytest.approx(
+        (recs[0]["bond"] / 1e6, recs[0]["mor"] / 1e6, recs[0]["E_unit"] / 1e6), rel=1e-15)
+    assert not {"f_tj_mpa", "f_tu_mpa", "E_b_mpa", "phi_j_deg"} & set(good)
+    assert refused["status"] == "error" and not refused["ok"] and "materials.units.E" in refused["message"]
+    assert refused["E_unit_mpa"] == 5.0e6 and refused["bond_mpa"] == recs[1]["bond"] / 1e6
+
+
+def test_a_study_of_other_names_through_the_regression_and_predict(other):
+    """The study's runs at its three levels, their strengths a known law of
+    its inputs (the independent reason: the fit must find it), through the
+    regression of its terms and its columns, and predict by its names."""
+    table, _ = wallette_samples(other.samples, other.seed, other.variables, other.correlations)
+    cols = other.columns()
+    rows = []
+    for r in records(table):
+        for p in (0.0, 0.1, 0.3):
+            bond, mor = r["bond"] / 1e6, r["mor"] / 1e6
+            rows.append({"variant": "per_wall", "sample": r["sample"], "ok": True, cols["p"]: p,
+                         cols["bond"]: bond, cols["mor"]: mor, cols["E_unit"]: r["E_unit"] / 1e6,
+                         "failure_mode": "joint", "strength_mpa": 0.1 + 4.0 * bond + 2.0 * p + 0.01 * mor})
+    runs = pd.DataFrame(rows)
+    fits, eq_rows, _ = E.prediction_equations(runs, other.features, cols)
+    eq = fits["joint"][0]
+    assert eq["coef"]["bond"] == pytest.approx(4.0, rel=0.01) and eq["coef"]["p"] == pytest.approx(2.0, rel=0.01)
+    p = predict.build(fits, runs, build_scene(other.scene), "synthetic", cols, other.units, other.regression_variant,
+                      {v.name: v.setting for v in other.variables})
+    x = dict(bond="0.35 MPa", mor="4 N/mm^2", p="0.1 MPa")
+    got = predict.predict(p, **x)
+    assert got.strength_mpa == pytest.approx(0.1 + 4.0 * 0.35 + 2.0 * 0.1 + 0.01 * 4.0, rel=1e-3)
+    assert got.inputs == dict(bond=0.35, mor=4.0, p=0.1) and p["variant"] == "per_wall"
+    spec = plan.spec(other)
+    assert spec["level_column"] == "p_mpa" and spec["regression_variant"] == "per_wall" and spec["precompression"]
+
+
+def test_no_code_keys_on_the_willis_studys_names():
+    """No string in the package's code (docstrings aside, where the Willis
+    study is an example) is a variable, variant, term or column of the
+    Willis study file: no code looks a study's data up by those names.
+    The precompression's column, sigma_v_mpa, is the scene's own (the
+    formulation's sigma_v, which every bending run reports whatever a study
+    calls its sweep); the Willis study names its sweep after it."""
+    import ast
+    willis = load_study(str(ROOT / "config" / "studies" / "willis.yaml"))
+    names = {v.name for v in willis.variables} | set(willis.variants) | set(willis.features)
+    names |= {willis.column(v.name) for v in willis.variables}
+    found = []
+    for path in PACKAGE.rglob("*.py"):
+        tree = ast.parse(path.read_text())
+        docs = {id(n.body[0].value) for n in ast.walk(tree)
+                if isinstance(n, (ast.Module, ast.FunctionDef, ast.ClassDef)) and n.body
+                and isinstance(n.body[0], ast.Expr) and isinstance(n.body[0].value, ast.Constant)}
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docs:
+                found += [f"{path.relative_to(PACKAGE)}:{node.lineno} {n!r}" for n in names if n == node.value]
+    assert not found, found
+
+
+def test_snakemake_keeps_its_records_where_the_workflow_reads_them(tmp_path):
+    """Snakemake's record store (pipeline/snakemake_state.py): a one-rule
+    workflow run in a folder leaves the record of its output, a long path
+    included (cut into names of the file system's length), where
+    record_path says; the record names its rule.  Fails when another
+    Snakemake lays its records out otherwise."""
+    from masonrydem.pipeline.snakemake_state import read_record, record_path
+    import hashlib
+    long = "out/" + "/".join(hashlib.sha256(str(k).encode()).hexdigest() for k in range(5)) + "/a.txt"  # 334 letters
+    (tmp_path / "Snakefile").write_text(
+        f'rule all:\n    input: "{long}", "out/short.txt"\n\n'
+        'rule make:\n    output: "out/{name}.txt"\n    shell: "echo made > {output}"\n')
+    exe = Path(sys.executable).with_name("snakemake")
+    r = subprocess.run([str(exe), "--cores", "1", "--quiet", "all"], cwd=tmp_path, capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+    for out in (long, "out/short.txt"):
+        where = tmp_path / record_path(out)
+        assert where.is_file(), f"no record at {where}: Snakemake's record store is laid out otherwise"
+        record = read_record(out, tmp_path / ".snakemake" / "metadata")
+        assert record["rule"] == "make"
+    assert len(record_path(long).parts) > 3       # the long name was cut into folders
