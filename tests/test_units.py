@@ -202,3 +202,11 @@ def test_the_schema_names_a_unit_and_range_for_every_physical_field():
             assert "unit" in sub and "plausible" in sub, path
             seen.add(name)
     assert seen == physical
+
+
+@pytest.mark.parametrize("text", ["0.35 N/mm2", "0.35 N/mm²", "0.35 N/mm^2", "350 kN/m2", "350000 N/m²", "0.35MPa"])
+def test_engineering_spellings_of_a_stress(text):
+    """A stress as engineers write it reads as 0.35 MPa does, to the last
+    digit (pint's decimal arithmetic: 0.35e6 exactly)."""
+    from masonrydem.specimen.quantities import to_si
+    assert to_si(text, "Pa", "f") == to_si("0.35 MPa", "Pa", "f") == 0.35e6

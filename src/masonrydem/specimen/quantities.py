@@ -16,6 +16,7 @@ value, the range and, for a plain number, the unit that brings it into the
 range ("did you mean 0.15 MPa?").  A scene widens a range on purpose under
 ``plausible``: ``plausible: {materials.joints.ft: ["0.001 MPa", "20 MPa"]}``.
 """
+import re
 from functools import lru_cache
 
 from ..errors import InputError
@@ -73,7 +74,7 @@ def to_si(value, unit, field):
     import pint
     ureg = registry()
     try:
-        q = ureg.Quantity(value.strip())
+        q = ureg.Quantity(quantity_text(value))
     except (pint.errors.PintError, ValueError, TypeError, AttributeError, SyntaxError):
         raise InputError(field, f"{value!r} is not a quantity (a number and a unit, such as "
                                 f"'{_example(unit)}')") from None
@@ -85,6 +86,30 @@ def to_si(value, unit, field):
         raise InputError(field, f"{value!r} reads as {q.units}, {_dimension(str(q.units))}; this setting is "
                                 f"{_dimension(unit)} ({unit or 'no unit'})") from None
     return float(si.magnitude)
+
+
+_NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
+_SUPERSCRIPTS = str.maketrans({"\u00b2": "^2", "\u00b3": "^3", "\u00b9": "^1", "\u2074": "^4", "\u207b": "^-",
+                               "\u00b7": "*", "\u22c5": "*", "\u00b5": "u", "\u03bc": "u"})
+
+
+def unit_text(unit):
+    """A unit as engineers write it, in the text pint reads: N/mm2 and
+    N/mm\u00b2 as N/mm^2, kN/m2 as kN/m^2, kN\u00b7m as kN*m, \u00b5m as um.  A
+    run of digits right after a letter is a power (no unit's symbol ends
+    in a digit); what pint reads already is left as it is."""
+    return re.sub(r"(?<=[A-Za-z])(\d+)", r"^\1", str(unit).translate(_SUPERSCRIPTS))
+
+
+def quantity_text(value):
+    """A quantity's text, '0.35 N/mm2', with its unit as pint reads it
+    (``unit_text``): '0.35 N/mm^2'.  A text that is no number and unit is
+    left as it is (pint then says what is wrong)."""
+    m = _NUMBER.match(value)
+    if not m:
+        return value.strip()
+    number, unit = m.groups()
+    return f"{number} {unit_text(unit)}" if unit else number
 
 
 WORDS = {"Pa": "a stress", "m": "a length", "N/m": "a force per length (an energy per area)",
