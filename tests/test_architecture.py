@@ -92,7 +92,7 @@ OTHER = {
     },
     "correlations": [{"between": ["mor", "E_unit"], "rho": 0.4}],
     "variants": {"per_wall": {"draw": "wallette"}},
-    "rules": {"materials.joints.GI_per_ft": "0.03 mm", "loading.bending.rate": 2.0e-7,
+    "rules": {"materials.joints.GI_per_ft": "0.03 mm", "loading.bending.rate": "2.0e-4 mm",
               "loading.bending.ramp_steps": 500, "numerics.cells": [2, 1, 1]},
     "sweep": {"setting": "loading.precompression.pressure", "name": "p", "levels": ["0 MPa", "0.1 MPa", "0.3 MPa"]},
     "regression": {"features": ["bond", "mor", "p"]},

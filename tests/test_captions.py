@@ -129,13 +129,25 @@ def _runs():
     return pd.DataFrame(rows)
 
 
+SPEC = dict(study="demo", scene="demo_scene", test="four-point out-of-plane horizontal bending", precompression=True,
+              wallette="6 courses of 4 units of 230 x 65 x 114 mm in running bond with 10 mm joints",
+            variants={"nonspatial": "one draw of the properties for the whole wallette"},
+            draws={"nonspatial": "wallette"}, inputs=["f_tj", "f_tu", "phi_j", "E_b"],
+            categories=[["Study", "the statistics"], ["Prediction", "the equations"], ["3-D pictures", "states"]])
+
+
 def test_statistics_captions(level, inputs):
     """All modes at 0 MPa: mean (9 + 10 + 11 + 20) / 4 = 12.5 kN, a quarter
     brick failures; two failed runs excluded; the increase of the joint
     mean from 10 to 15 kN is +50 %."""
     runs = _runs()
     st, corr, inc = analysis.study_tables(runs, 200, 0, inputs, level)
-    values = captions.statistics(runs, st, corr, inc, level, inputs)
+    values = captions.statistics(runs, st, corr, inc, level, inputs, SPEC)
+    landing = (REPORT / "workflow.rst").read_text().format(**values["workflow"])     # (its CSS keeps its braces)
+    assert landing.startswith("masonrydem: the study demo\n==========================\n")
+    assert "- Study_: the statistics.\n- Prediction_: the equations.\n- `3-D pictures`_: states." in landing
+    assert "Accuracy_" not in landing and "spatial" not in landing.replace("nonspatial", "")
+    assert "none" not in values["correlations"]["fields"] and values["correlations"]["fields"] == ""
     text = fill("statistics", values["statistics"])
     assert "**2 of 10 runs excluded** (step_limit: 2)" in text
     # the mean of resamples of 9, 10, 11, 20 lies between 9 and 20
@@ -191,7 +203,8 @@ def test_equations_caption():
     rows = [dict(mode="joint", n=40, alpha=0.001234, mape_pct=5.04, cv_mape_pct=6.0, equation="sigma = 0.1 + 1 f_tj"),
             dict(mode="brick", n=3, equation="too few runs to fit (3 samples, the nested 5-fold CV needs 7)"),
             dict(mode="lower of two", n=43, mape_pct=7.0, mode_agreement=0.93, equation="the joint equation alone")]
-    text = fill("equations", captions.equations(rows))
+    text = fill("equations", captions.equations(rows, ("f_tj", "sigma_v"), "per_wall"))
+    assert "terms f_tj, sigma_v," in " ".join(text.split()) and "runs of the variant per_wall" in text
     assert ("- joint failure (40 runs): **sigma = 0.1 + 1 f_tj**, MAPE **5.0 %** on the runs it was fitted to, "
             "**6.0 %** out of fold; alpha 0.00123") in text
     assert "- brick failure (3 runs): too few runs to fit" in text
@@ -211,17 +224,21 @@ def test_design_table_and_caption(willis, columns):
     inputs = dict(validation.design_inputs(mean_scene), l_o=0.115, h_b=0.086, c_ratio=1.5)
     assert (inputs["ft_units"], inputs["ft_joints"]) == pytest.approx((3.75, 0.3), rel=1e-15)
     design = validation.design_table({"joint": (eq, ns.strength_mpa.to_numpy())}, ns, 0.0, np.array([0.0, 0.5]),
-                                     inputs, willis.means(), columns, willis.sweep_name)
+                                     inputs, willis.means(), columns, willis.sweep_name, "sigma_v_mpa")
     assert design.prediction.tolist() == pytest.approx([0.1, 0.6]) and design.band_sd.tolist() == [0.0, 0.0]
+    # the band adds the residual scatter to the properties' (none here: the equation takes none of them)
+    banded = validation.design_table({"joint": (eq, ns.strength_mpa.to_numpy())}, ns, 0.03, np.array([0.0, 0.5]),
+                                     inputs, willis.means(), columns, willis.sweep_name, "sigma_v_mpa")
+    assert banded.band_sd.tolist() == pytest.approx([0.03, 0.03], rel=1e-12) and banded.property_sd.max() == 0.0
     assert design.lg_stepped.iloc[0] == pytest.approx(1.5 * 0.3 * 0.115 / 0.086) and design.lg_brick.iloc[0] == 1.875
     simulated = pd.DataFrame({"mean": [0.35], "std": [0.05]}, index=pd.Index([0.25], name="sigma_v_mpa"))
-    values = captions.design_comparison(design, simulated, ["joint"], 0.02, 2, inputs)
-    text = fill("design_comparison", values)
+    values = captions.design_comparison(design, simulated, ["joint"], 0.02, 2, inputs, "nonspatial")
+    text = " ".join(fill("design_comparison", values).split())
     assert "the joint equation alone (too few runs of the other mode)" in text
     assert "l_o = 115 mm" in text and "h_b = 86 mm" in text
     assert ("- 0.25 MPa: simulated **0.350 +- 0.050 MPa**, predicted **0.350 +- 0.000 MPa** at the mean properties, "
             "**0.350 MPa** on average over the samples") in text
-    assert captions.design_comparison(design, simulated, [], 0.02, 2, inputs)["equations"] == \
+    assert captions.design_comparison(design, simulated, [], 0.02, 2, inputs, "nonspatial")["equations"] == \
         "no equation (too few runs)"
 
 
@@ -291,3 +308,25 @@ def test_accuracy_subsample_caption_says_undefined_for_one_run():
     assert second.startswith("- 0.15 MPa, 1 runs (1 excluded)") and "COV undefined default, undefined fine" in second
     assert "nan" not in fill("accuracy_subsample", values).lower()
     assert len(accuracy.paired(default, fine)) == 4
+
+
+def test_the_study_figures_have_a_panel_per_variant_and_none_empty(monkeypatch, tmp_path, level, inputs):
+    """One variant: the running mean, the correlations and the curves draw
+    one panel each, every panel with its lines (no empty second panel);
+    two variants, two."""
+    saved = []
+    monkeypatch.setattr(figures, "_save", lambda fig, path: saved.append(fig))
+    runs = _runs()
+    for variants in (["nonspatial"], ["nonspatial", "other"]):
+        both = pd.concat([runs.assign(variant=v) for v in variants], ignore_index=True)
+        c = analysis.study_tables(both, 50, 0, inputs, level)[1]
+        curves = pd.DataFrame([dict(variant=v, sigma_v_mpa=sv, sample=s, displacement_mm=u, load_kN=u)
+                               for v in variants for sv in (0.0, 0.5) for s in range(4) for u in (0.0, 0.1)])
+        saved.clear()
+        figures.running_mean(both, tmp_path / "a.png", level)
+        figures.correlation_vs_sigma(c, tmp_path / "b.png", level, inputs, {col: col for col in inputs})
+        figures.curves_by_mode(both, curves, [0.0, 0.5], tmp_path / "c.png", level)
+        running, correlation, by_mode = saved
+        assert len(running.axes) == len(variants) and all(ax.lines for ax in running.axes)
+        assert len(correlation.axes) == len(variants) and all(ax.lines for ax in correlation.axes)
+        assert len(by_mode.axes) == 2 * len(variants) and all(ax.lines for ax in by_mode.axes)

@@ -109,7 +109,7 @@ def test_predict_names_the_brick_mode_where_its_equation_is_lower(predictor):
 
 
 @pytest.mark.parametrize("args,option,words", [
-    (("3.5", "0.25 MPa", "0 MPa"), "f_tu", "did you mean 3.5 MPa?"),
+    (("3.5", "0.25 MPa", "0 MPa"), "f_tu", "has no unit, and f_tu is a quantity: did you mean '3.5 MPa'?"),
     (("3.5 MPa", "0.95 MPa", "0 MPa"), "f_tj", "fitted on"),
     (("3.5 MPa", "0.25 MPa", "1 MPa"), "sigma_v", "fitted on"),
     (("3.5 MPa", "0.25 mm", "0 MPa"), "f_tj", "a length"),
@@ -118,7 +118,7 @@ def test_predict_refuses_inputs_outside_the_fitted_range(predictor, args, option
     with pytest.raises(InputError) as e:
         predict.predict(predictor, None, **dict(zip(("f_tu", "f_tj", "sigma_v"), args)))
     assert e.value.field == option and words in e.value.reason
-    assert "230 x 65 x 114 mm" in e.value.reason or e.value.field == "f_tj" and "length" in e.value.reason
+    assert "230 x 65 x 114 mm" in e.value.reason or "length" in words or "no unit" in words
 
 
 def test_predict_on_the_command_line(tmp_path, predictor):
@@ -128,7 +128,7 @@ def test_predict_on_the_command_line(tmp_path, predictor):
     assert r.returncode == 0, r.stderr
     assert "governing: joint failure" in r.stdout and "95 % prediction interval" in r.stdout
     r = _cli("predict", str(path), "f_tu=5", "f_tj=0.3 MPa", "sigma_v=0.2 MPa")
-    assert r.returncode == 2 and "did you mean 5 MPa?" in r.stderr
+    assert r.returncode == 2 and "did you mean '5 MPa'?" in r.stderr
     r = _cli("predict", str(tmp_path / "none.json"), "f_tu=5 MPa", "f_tj=0.3 MPa", "sigma_v=0")
     assert r.returncode == 2 and "predictor" in r.stderr
 
@@ -172,7 +172,7 @@ def test_predict_any_inputs_and_terms(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "t 12 mm, f_tj 0.5 MPa, sigma_v 0.2 MPa" in r.stdout
     r = _cli("predict", str(path), "t=12", "f_tj=0.5 MPa", "sigma_v=0.2 MPa")
-    assert r.returncode == 2 and "t: " in r.stderr and "did you mean 12 mm?" in r.stderr
+    assert r.returncode == 2 and "t: '12' has no unit" in r.stderr and "did you mean '12 mm'?" in r.stderr
 
 
 def test_predict_builds_the_wallette_of_the_brick_it_is_given():
@@ -197,3 +197,124 @@ def test_predict_builds_the_wallette_of_the_brick_it_is_given():
         assert w["thickness_m"] == pytest.approx(0.1025) and w["unit_mm"] == pytest.approx([215.0, 65.0, 102.5])
     # inputs that leave the brick alone leave the wallette as fitted
     assert predict.wallette_at({"inputs": {"f_tj": p["inputs"]["f_tj"]}, "wallette": p["wallette"]}, x) == p["wallette"]
+
+
+def test_predict_s_interval_covers_95_percent_of_new_wallettes():
+    """Runs whose strength is the joint law times exp(e), e normal with SD
+    0.1 (a known error): the interval's quantiles of the simulated over
+    predicted strength are those of exp(e), exp(-+1.96 x 0.1) = 0.822 and
+    1.217, within 3 standard errors of an order statistic of 4000 runs
+    (0.013 on the ratio; the 5 % quantile, 0.848, is 0.026 off); and the
+    interval predict gives holds 95 % of 4000 new wallettes drawn the same
+    way, within binomial limits (3 standard deviations of the fraction of
+    4000, and of the 4000 runs' quantiles: 0.95 +- 0.015)."""
+    rng = np.random.default_rng(8)
+    n, sd = 1334, 0.1
+
+    def law(f_tj, sv):
+        return JOINT["intercept"] + JOINT["f_tj"] * f_tj + JOINT["sigma_v"] * sv
+
+    f_tj = rng.uniform(0.1, 0.8, n)
+    rows = [dict(sample=i, f_tu_mpa=5.0, f_tj_mpa=f_tj[i], sigma_v_mpa=sv, failure_mode="joint",
+                 strength_mpa=law(f_tj[i], sv) * np.exp(sd * rng.standard_normal()))
+            for i in range(n) for sv in (0.0, 0.25, 0.5)]
+    ns = pd.DataFrame(rows)
+    fits, _, _ = equations.prediction_equations(ns, TERMS, COLUMNS)
+    p = predict.build(fits, ns, build_scene(WILLIS), "synthetic", COLUMNS, UNITS, "synthetic")
+    q = p["modes"]["joint"]
+    assert q["ratio_q025"] == pytest.approx(np.exp(-1.959964 * sd), abs=0.013)
+    assert q["ratio_q975"] == pytest.approx(np.exp(1.959964 * sd), abs=0.013 * 1.22)
+    m = 4000
+    new_tj, new_sv = rng.uniform(0.12, 0.78, m), rng.choice([0.0, 0.25, 0.5], m)
+    y = law(new_tj, new_sv) * np.exp(sd * rng.standard_normal(m))
+    inside = 0
+    for tj, sv, yy in zip(new_tj, new_sv, y):
+        lo, hi = predict.predict(p, f_tu=5e6, f_tj=tj * 1e6, sigma_v=sv * 1e6).interval_mpa
+        inside += lo <= yy <= hi
+    assert inside / m == pytest.approx(0.95, abs=0.015)
+
+
+def test_predict_s_interval_is_that_of_the_out_of_fold_errors():
+    """The interval's quantiles are those of the simulated over the
+    out-of-fold strengths (each run predicted by an equation fitted without
+    its sample: the error on a wallette the fit has not seen), recomputed
+    here by an independent refit per fold (scikit-learn's LassoCV,
+    tests/test_regression.py); on 10 samples with 2 % noise they are wider
+    than those of the fitted strengths."""
+    from sklearn.model_selection import GroupKFold
+    from test_regression import _lasso_cv_predict
+    rng = np.random.default_rng(11)
+    f_tj = rng.uniform(0.1, 0.8, 10)
+    ns = pd.DataFrame([dict(sample=i, f_tu_mpa=5.0, f_tj_mpa=f_tj[i], sigma_v_mpa=sv, failure_mode="joint",
+                            strength_mpa=(JOINT["intercept"] + JOINT["f_tj"] * f_tj[i] + JOINT["sigma_v"] * sv)
+                            * (1 + 0.02 * rng.standard_normal())) for i in range(10) for sv in (0.0, 0.25, 0.5)])
+    fits, _, _ = equations.prediction_equations(ns, TERMS, COLUMNS)
+    p = predict.build(fits, ns, build_scene(WILLIS), "synthetic", COLUMNS, UNITS, "synthetic")
+    X = equations.features(equations.inputs_of(ns, COLUMNS), TERMS)
+    y, groups = ns.strength_mpa.to_numpy(), ns["sample"].to_numpy()
+    oof = np.empty_like(y)
+    for train, test in GroupKFold(5).split(X, y, groups):
+        oof[test] = _lasso_cv_predict(X[train], y[train], groups[train], X[test])
+    q = p["modes"]["joint"]
+    assert q["ratio_q025"] == pytest.approx(np.quantile(y / oof, 0.025), rel=1e-6)
+    assert q["ratio_q975"] == pytest.approx(np.quantile(y / oof, 0.975), rel=1e-6)
+    fitted = y / fits["joint"][0]["fitted"]
+    assert q["ratio_q975"] - q["ratio_q025"] > np.quantile(fitted, 0.975) - np.quantile(fitted, 0.025)
+
+
+def test_check_takes_a_study_file_and_refuses_its_mistakes_with_exit_2(tmp_path):
+    """`masonrydem check STUDY.yaml`: the Willis study described (its runs
+    counted: 100 x 2 x 5 = 1,000), nothing drawn or run; a study file with
+    a standard deviation without its unit is refused with exit 2, no
+    traceback, the key as the file writes it and the unit of its mean in
+    the suggestion; a scene's misspelled key names the nearest setting."""
+    r = _cli("check", "config/studies/willis.yaml")
+    assert r.returncode == 0, r.stderr
+    assert "study 'willis': valid" in r.stdout and "= 1,000" in r.stdout and "nothing was drawn or run" in r.stdout
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("name: bad\nscene: config/scenes/willis.yaml\nsamples: 20\nseed: 1\n"
+                   "variables:\n  bond: {setting: materials.joints.ft, distribution: lognormal, mean: 0.35 N/mm2, "
+                   "sd: 0.1}\nvariants:\n  v: {draw: wallette}\n"
+                   "sweep: {setting: loading.precompression.pressure, levels: [0 MPa]}\n")
+    r = _cli("check", str(bad))
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert "study.variables.bond.sd: 0.1 has no unit" in r.stderr and "did you mean '0.1 N/mm2'?" in r.stderr
+    r = _cli("check", WILLIS, "--set", "materials.units.nuu=0.2")
+    assert r.returncode == 2 and "materials.units.nuu: is not a setting here: did you mean 'nu'?" in r.stderr
+
+
+def test_predict_says_what_it_answers_and_warns_where_a_modes_equation_is_missing(tmp_path):
+    """Only the joint equation fitted (too few brick failures), the runs at
+    0.5 MPa half brick failures: the answer names what it is (one
+    wallette's strength by the study's equations, not a mean or a
+    characteristic value) and warns that the brick mode has no equation,
+    with the share of brick failures at the nearest level."""
+    ns = _synthetic(n=30, seed=2)
+    joint = ns[ns.failure_mode == "joint"]
+    fits, rows, _ = equations.prediction_equations(joint, TERMS, COLUMNS)
+    runs = pd.concat([joint, joint[joint.sigma_v_mpa == 0.5].assign(failure_mode="brick")])
+    p = predict.build(fits, runs, build_scene(WILLIS), "synthetic", COLUMNS, UNITS, "synthetic", study="demo",
+                      level="sigma_v", skipped={"brick": "too few runs to fit (3 samples)"})
+    got = predict.predict(p, f_tu="4 MPa", f_tj="0.3 MPa", sigma_v="0.45 MPa")
+    text = "\n".join(got.lines())
+    assert "not a mean strength and not a characteristic (5 %) value" in text and "the study 'demo'" in text
+    assert got.warnings == ("no brick-failure equation (too few runs to fit (3 samples)): the answer is the joint "
+                            "equation's, too high wherever the brick mode governs; 50% of the study's runs at "
+                            "sigma_v = 0.5 MPa failed in the brick mode",)
+    assert "WARNING: no brick-failure equation" in text
+
+
+def test_predict_refuses_another_wallette():
+    """A scene other than the one fitted (the UK brick, 215 x 102.5 x 65
+    mm) is refused, pointing to the geometry study's predictor; the
+    fitted one is taken."""
+    ns = _synthetic()
+    fits, _, _ = equations.prediction_equations(ns, TERMS, COLUMNS)
+    p = predict.build(fits, ns, build_scene(WILLIS), "synthetic", COLUMNS, UNITS, "synthetic")
+    x = dict(f_tu="4 MPa", f_tj="0.3 MPa", sigma_v="0.2 MPa")
+    uk = build_scene(WILLIS, ["geometry.unit.length=215 mm", "geometry.unit.width=102.5 mm"])
+    with pytest.raises(InputError) as e:
+        predict.predict(p, None, uk, **x)
+    assert e.value.field == "--scene" and "215 x 65 x 102.5 mm" in e.value.reason
+    assert "results/studies/geometry/study/predictor.json" in e.value.reason
+    assert predict.predict(p, None, build_scene(WILLIS), **x).mode == "joint"

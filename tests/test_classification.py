@@ -183,3 +183,54 @@ def test_rigid_units_always_fail_in_the_joints():
     sp, state = _constructed("rigid", "[1, 1, 1]")
     c = classify(sp, state)
     assert c["failure_mode"] == "joint" and "rigid" in c["classification"]
+
+
+def test_a_cells_damage_weighs_its_zones_by_volume():
+    """A cell's ten zones are two overlays of five tetrahedra, each a
+    corner tetrahedron of 1/6 of the cell's volume or the central one of
+    1/3 (weight 1/2 each: docs/formulation.md).  Damage 1 in five corner
+    tetrahedra is 5 x 1/6 x 1/2 = 5/12 of the cell, not the 5/10 a count
+    of zones gives, so the cell is not cracked (0.5); in both central ones
+    it is 1/3; in both and three corners, 1/3 + 3/12 = 7/12, cracked."""
+    from masonrydem.dem import kernels as K
+    from masonrydem.specimen.classify import cell_damage, classify
+    sp, state = _constructed("elasto-plastic")
+    a = sp.assembly
+    nx, ny, _ = a.blocks[0].cells
+    zs = state.zones.state
+    zs[:, K.ZS_EULT] = 1.0
+    first = a.zone_ptr[0] + 10 * (1 + nx * (0 + ny * 0))        # cell (1, 0, 0) of unit 1
+
+    def cell(zones):
+        zs[:, K.ZS_EPT] = 0.0
+        zs[[first + z for z in zones], K.ZS_EPT] = 1.0
+        return cell_damage(sp, state)[0][0][1, 0, 0]
+    assert cell([0, 1, 2, 3, 5]) == pytest.approx(5 / 12, rel=1e-12)
+    assert classify(sp, state)["cracked_brick_volume_frac"] == 0.0
+    assert cell([4, 9]) == pytest.approx(1 / 3, rel=1e-12)
+    assert cell([4, 9, 0, 1, 5]) == pytest.approx(7 / 12, rel=1e-12)
+    assert classify(sp, state)["cracked_brick_volume_frac"] == pytest.approx(1 / 48, rel=1e-12)
+
+
+def test_a_joints_damage_weighs_its_sub_contacts_by_area():
+    """A joint's damage is the area-weighted mean over its sub-contacts,
+    whose areas are the weights of a composite Simpson rule: a damage that
+    grows linearly along the joint, from 0 at one end to 1 at the other, has
+    the mean 1/2 exactly (the rule integrates a linear field exactly),
+    whatever the sub-contacts' unequal areas; the same damage squared,
+    1/3."""
+    from masonrydem.dem import kernels as K
+    from masonrydem.specimen.classify import joint_damage
+    sp, state = _constructed("elasto-plastic")
+    a = sp.assembly
+    j = a.joints
+    bed = next(k for k, (kind, _) in enumerate(sp.joints) if kind == "bed")
+    every = np.arange(j.area.size)
+    subs = np.concatenate([every[c.sc] for c, jn in zip(a.contacts, sp.contact_joint) if jn == bed])
+    x = np.array([sum(j.w[s, k] * a.nodes.x0[j.nodes[s, k], 0] for k in range(j.cnt[s, 0])) for s in subs])
+    assert np.unique(np.round(j.area[subs], 12)).size > 1          # unequal areas
+    t = (x - x.min()) / (x.max() - x.min())
+    state.joints.state[subs, K.JS_D] = t
+    assert joint_damage(sp, state)[bed] == pytest.approx(0.5, rel=1e-12)
+    state.joints.state[subs, K.JS_D] = t ** 2
+    assert joint_damage(sp, state)[bed] == pytest.approx(1 / 3, rel=1e-12)

@@ -48,3 +48,27 @@ def test_a_copied_table_is_not_counted_as_reproduced(tmp_path, capsys):
     assert compare_results.main([str(a), str(b), "--copied", "study/runs.parquet"]) == 0
     out = capsys.readouterr().out
     assert "study runs: not rerun (copied from the committed results)" in out and "identical" not in out
+
+
+def test_a_derived_table_that_differs_is_named_value_by_value(tmp_path, capsys):
+    """Runs identical, but the statistics differ: one mean in its fifth
+    digit, one row only in the reproduction; the verdict names the table,
+    the row, the column and both values, and fails."""
+    a = _results(tmp_path / "a", [12.5, 14.0, 15.0])
+    b = _results(tmp_path / "b", [12.5, 14.0, 15.0])
+    st = pd.DataFrame(dict(variant="nonspatial", sigma_v_mpa=[0.0, 0.5], mode="all", P_max_mean_kN=[12.34, 15.0],
+                           equation=["x", "y"]))
+    st.to_csv(a / "study" / "statistics.csv", index=False)
+    st.to_csv(b / "study" / "statistics.csv", index=False)
+    assert compare_results.main([str(a), str(b)]) == 0
+    assert "statistics (study/statistics.csv): identical" in capsys.readouterr().out
+    changed = pd.concat([st.assign(P_max_mean_kN=[12.341, 15.0]),
+                         pd.DataFrame(dict(variant=["spatial"], sigma_v_mpa=[0.0], mode=["all"], P_max_mean_kN=[1.0],
+                                           equation=["z"]))])
+    changed.to_csv(b / "study" / "statistics.csv", index=False)
+    assert compare_results.main([str(a), str(b)]) == 1
+    out = capsys.readouterr().out
+    assert "statistics (study/statistics.csv): 2 values differ" in out
+    assert "('nonspatial', 0.0, 'all'), P_max_mean_kN: committed 12.34, now 12.341" in out
+    assert "('spatial', 0.0, 'all'), (row): committed 'absent', now 'present'" in out
+    assert "NOT REPRODUCED: 0 runs and 2 derived values differ" in out

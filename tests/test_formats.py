@@ -57,3 +57,20 @@ def test_a_predictor_scores_zero_on_the_runs_it_made_and_its_bias_when_they_are_
     assert np.isnan(t.own_mape_pct[1]) and t.own_mape_pct[2] == pytest.approx(0.0, abs=1e-9)
     text = F.caption_values(t, ["joint failure: ..."])["lines"]
     assert "uk (215 x 102.5 x 65 mm, 10 mm joints; 40 runs)" in text and "own fixed-geometry" in text
+
+
+def test_a_format_is_scored_on_its_regression_variant_alone_and_mode_by_mode():
+    """Runs of another variant (spatial ones, here 50 % off) do not count;
+    runs whose failure mode the lower equation does not name (the first 10
+    of 40 relabelled) lower the mode agreement to 30 / 40 exactly, and do
+    not change the MAPE (scored on strength)."""
+    uk = dict(L=215.0, H=65.0, W=102.5, t=10.0)
+    runs = _runs(40, uk, 5)
+    flipped = runs.copy()
+    flipped.loc[:9, "failure_mode"] = np.where(flipped.failure_mode[:10] == "joint", "brick", "joint")
+    spatial = _runs(40, uk, 6, error=0.5).assign(variant="spatial")
+    s = F.scores(pd.concat([flipped, spatial], ignore_index=True), PREDICTOR, uk, "nonspatial")
+    assert s["runs"] == 40 and s["mode_agreement"] == 30 / 40
+    assert s["mape_pct"] == pytest.approx(0.0, abs=1e-9)
+    s = F.scores(pd.concat([runs, spatial], ignore_index=True), PREDICTOR, uk, "spatial")
+    assert s["runs"] == 40 and s["mape_pct"] == pytest.approx(100 * (1 - 1 / 1.5))

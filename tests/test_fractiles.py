@@ -79,3 +79,18 @@ def test_the_table_picks_the_supported_estimate_and_adds_the_design_rules():
     # two runs: no estimate, and the caption says so instead of printing nan
     few = F.characteristic_table(runs.iloc[:3], SIGMA_V)
     assert few.characteristic_mpa.isna().all() and "nan" not in F.caption_values(few, SIGMA_V)["lines"]
+
+
+@pytest.mark.parametrize("n, k", [(5, 4.203), (10, 2.911), (20, 2.396), (30, 2.220)])
+def test_the_lower_bound_is_the_published_tolerance_limit(n, k):
+    """At 90 % two-sided confidence the interval's lower end is the
+    one-sided 95 %/95 % lower tolerance limit of the logs, exp(ybar - k s),
+    with k the published factor of a normal sample (NIST/SEMATECH e-Handbook,
+    7.2.6.3, one-sided factors for p = 0.95, gamma = 0.95; the same as
+    ISO 16269-6): 4.203, 2.911, 2.396, 2.220 at n = 5, 10, 20, 30; the
+    estimate is exp(ybar - 1.6449 s), s with n - 1."""
+    y = np.random.default_rng(n).normal(0.4, 0.2, n)
+    ybar, s = y.mean(), np.sqrt(np.sum((y - y.mean()) ** 2) / (n - 1))
+    est, lo, _ = F.lognormal_fractile(np.exp(y), confidence=0.90)
+    assert lo == pytest.approx(np.exp(ybar - k * s), rel=2e-3 * s)
+    assert est == pytest.approx(np.exp(ybar - 1.6448536269514722 * s), rel=1e-12)     # Phi^-1(0.95)

@@ -1,6 +1,9 @@
-"""Sobol indices (sensitivity.py) on functions whose indices are known in
-closed form: an additive function of independent inputs, and a sum of two
-correlated normals through the Gaussian copula."""
+"""Sobol indices (analysis/sensitivity.py) on functions whose indices are
+known in closed form: an additive function of independent inputs, a
+function with an interaction (total and first-order indices differ), a
+sum of two correlated normals through the Gaussian copula; through the
+table, in units that are not the variables' SI ones, mapped to the inputs
+by name; and through the workflow's rule."""
 import numpy as np
 import pandas as pd
 import pytest
@@ -91,3 +94,70 @@ def test_the_figure_draws_an_estimate_outside_its_interval(tmp_path):
                           ST_lo=[0.002, 0.4], ST_hi=[0.01, 0.6], pearson_sq=[0.0, 0.4]))
     S.figure(t, tmp_path / "s.png", SIGMA_V)
     assert (tmp_path / "s.png").stat().st_size > 0
+
+
+def test_an_interaction_separates_total_from_first_order_indices():
+    """y = x1 + x2 + 3 x1 x2 (+ 0 x3, 0 x4), x1, x2 uniform on (-1, 1):
+    Var(y) = 1/3 + 1/3 + 9 (1/3)^2 = 5/3; E[y | x1] = x1, so S1 = (1/3) /
+    (5/3) = 0.2 for each; the interaction's variance 1 belongs to both
+    totals: ST = (1/3 + 1) / (5/3) = 0.8.  A linear surrogate cannot show
+    it; the quadratic one (its cross term) is chosen, and a total index
+    taken as the first-order one would miss by 0.6."""
+    sym = [Variable(f"x{k}", "uniform", bounds=(-1.0, 1.0)) for k in range(1, 5)]
+    to_inputs = S.input_map(sym, {}, SCALE)
+    x, y = runs_of(to_inputs, lambda x: x[:, 0] + x[:, 1] + 3.0 * x[:, 0] * x[:, 1], 300, 0.02, 5)
+    res = S.group_indices(x, y, S.sobol_points(4), to_inputs, bootstrap=20)
+    assert res["surrogate"] == "quadratic" and res["cv_r2"] > 0.99
+    np.testing.assert_allclose(res["S1"], [0.2, 0.2, 0.0, 0.0], atol=0.02)
+    np.testing.assert_allclose(res["ST"], [0.8, 0.8, 0.0, 0.0], atol=0.02)
+
+
+def _table_runs(variables, f, n, seed, scale):
+    """Runs of one variant and level whose strength is f of the inputs in
+    the runs table's units (each SI value times scale[name])."""
+    rng = np.random.default_rng(seed)
+    u = rng.random((n, len(variables)))
+    cols = {v.name: scale[v.name] * v.frozen().ppf(u[:, k]) for k, v in enumerate(variables)}
+    return pd.DataFrame({"variant": "v", "sigma_v_mpa": 0.0, "ok": True, "failure_mode": "joint",
+                         **{f"{k}_mpa": x for k, x in cols.items()}, "strength_mpa": f(cols)})
+
+
+def test_the_table_names_each_index_by_its_input_in_the_runs_units():
+    """Two stresses given in Pa and shown in MPa (a scale of 1e-6, not 1),
+    the runs table's columns in the order b, a where the variables run a,
+    b: strength = 2 a + 0.5 b + a b (MPa).  With a ~ U(1, 3) and b ~ U(0, 2)
+    MPa (variances 1/3): E[y | a] = (2 + E b) a + ..., so V_a = 3^2 / 3;
+    E[y | b] = (0.5 + E a) b + ..., V_b = 2.5^2 / 3; the interaction
+    V_ab = Var a Var b = 1/9; S1 = V / (V_a + V_b + V_ab), ST adds V_ab.
+    The table's row of a_mpa carries a's indices, b_mpa b's."""
+    var_a, var_b = 1.0 / 3.0, 1.0 / 3.0                   # U over a width of 2
+    v_a, v_b, v_ab = (2.0 + 1.0) ** 2 * var_a, (0.5 + 2.0) ** 2 * var_b, var_a * var_b
+    total = v_a + v_b + v_ab
+    exact = {"a_mpa": (v_a / total, (v_a + v_ab) / total), "b_mpa": (v_b / total, (v_b + v_ab) / total)}
+    variables = [Variable("a", "uniform", bounds=(1e6, 3e6)), Variable("b", "uniform", bounds=(0.0, 2e6))]
+    scale = {"a": 1e-6, "b": 1e-6}
+    runs = _table_runs(variables, lambda c: 2 * c["a"] + 0.5 * c["b"] + c["a"] * c["b"], 200, 6, scale)
+    t = S.sensitivity_table(runs, SIGMA_V, ["a_mpa", "b_mpa"], S.input_map(variables, {}, scale), bootstrap=10)
+    t = t[t["mode"] == "all"].set_index("input")
+    for col, (s1, st) in exact.items():
+        assert t.loc[col, "S1"] == pytest.approx(s1, abs=0.02) and t.loc[col, "ST"] == pytest.approx(st, abs=0.02), col
+    # a map that leaves the runs' values in SI (scale 1) evaluates the
+    # surrogate a million times off its range: the indices say nothing
+    wrong = S.sensitivity_table(runs, SIGMA_V, ["a_mpa", "b_mpa"], S.input_map(variables, {}, {"a": 1, "b": 1}),
+                                bootstrap=2)
+    assert not np.allclose(wrong[wrong["mode"] == "all"].S1.to_numpy(), t.S1.to_numpy(), atol=0.05)
+
+
+def test_a_correlated_pair_through_the_table():
+    """The correlated pair of the test above, in the table: the input first
+    in the study's order carries the full index 0.75."""
+    normals = [Variable("p", "normal", mean=5e6, sd=1e6), Variable("q", "normal", mean=5e6, sd=1e6)]
+    scale = {"p": 1e-6, "q": 1e-6}
+    to_inputs = S.input_map(normals, {("p", "q"): 0.5}, scale)
+    x = to_inputs(np.random.default_rng(7).random((300, 2)))
+    runs = pd.DataFrame({"variant": "v", "sigma_v_mpa": 0.0, "ok": True, "failure_mode": "brick", "p_mpa": x[:, 0],
+                         "q_mpa": x[:, 1], "strength_mpa": x[:, 0] + x[:, 1]})
+    t = S.sensitivity_table(runs, SIGMA_V, ["p_mpa", "q_mpa"], to_inputs, bootstrap=5)
+    t = t[t["mode"] == "brick"].set_index("input")
+    assert t.loc["p_mpa", "ST"] == pytest.approx(0.75, abs=0.03) and t.loc["q_mpa", "ST"] == pytest.approx(0.25,
+                                                                                                          abs=0.03)

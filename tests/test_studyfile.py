@@ -94,7 +94,24 @@ def _study(tmp_path, **change):
     (dict(samples=0), "study.samples", "minimum"),
     (dict(variables__f_tj__setting="materials.joints.fx"), "study.variables.f_tj.setting", "not a numeric setting"),
     (dict(variables__f_tj__mean="0.3 mm"), "study.variables.f_tj.mean", "a length"),
-    (dict(variables__f_tj__mean=0.3), "study.variables.f_tj", "did you mean 0.3 MPa?"),
+    (dict(variables__f_tj__mean=0.3), "study.variables.f_tj.mean", "has no unit"),
+    (dict(variables__f_tj__mean=0.3), "study.variables.f_tj.mean", "did you mean '0.3 MPa'?"),
+    (dict(variables__f_tj__cov=None, variables__f_tj__sd=0.1), "study.variables.f_tj.sd", "did you mean '0.1 MPa'?"),
+    (dict(variables__f_tj__cov=3), "study.variables.f_tj.cov", "lies in (0, 1]"),
+    (dict(variables__f_tj__mean="-0.3 MPa"), "study.variables.f_tj.mean", "mean is above 0"),
+    (dict(variables__f_tj__distribution="truncated_normal", variables__f_tj__bounds=["0.5 MPa", "0.1 MPa"]),
+     "study.variables.f_tj.bounds", "min must be below max"),
+    (dict(variables__f_tj__settting="materials.joints.ft"), "study.variables.f_tj.settting",
+     "did you mean 'setting'?"),
+    (dict(variables__f_tj__setting="materials.joint.ft"), "study.variables.f_tj.setting",
+     "did you mean 'materials.joints.ft'?"),
+    (dict(varaibles={}), "study.varaibles", "did you mean 'variables'?"),
+    (dict(correlations=[{"between": ["E_b", "E_b"], "rho": 0.5}]), "study.correlations.0.between", "with itself"),
+    (dict(correlations=[{"between": ["E_b", "f_tu"], "rho": 0.5}, {"between": ["f_tu", "E_b"], "rho": -0.5}]),
+     "study.correlations.1", "correlated twice"),
+    (dict(correlations=[{"between": ["E_b", "f_tu"], "rho": 0.9}, {"between": ["f_tu", "f_tj"], "rho": 0.9},
+                        {"between": ["E_b", "f_tj"], "rho": -0.9}]), "study.correlations", "not positive definite"),
+    (dict(samples=5), "study.samples", "at least 7"),
     (dict(variables__f_tj__distribution="uniform"), "study.variables.f_tj", "needs bounds"),
     (dict(variables__f_tj__cov=None), "study.variables.f_tj", "one of cov or sd"),
     (dict(variables__f_tj__per="brick"), "study.variables.f_tj.per", "is not one of"),
@@ -104,8 +121,9 @@ def _study(tmp_path, **change):
     (dict(variants__spatial__correlation_length="0.3 m"), "study.variants.spatial.correlation_length", "only a field"),
     (dict(variants__spatial={"draw": "field", "correlation_length": "300 MPa"}),
      "study.variants.spatial.correlation_length", "a stress"),
-    (dict(sweep__levels=["0 MPa", "0.15"]), "study.sweep.levels.1", "did you mean 0.15 MPa?"),
-    (dict(rules={"materials.joints.GI_per_ft": 0.03}), "study.rules", "did you mean 0.03 mm?"),
+    (dict(sweep__levels=["0 MPa", "0.15"]), "study.sweep.levels.1", "did you mean '0.15 MPa'?"),
+    (dict(rules={"materials.joints.GI_per_ft": 0.03}), "study.rules.materials.joints.GI_per_ft",
+     "did you mean '0.03 mm'?"),
     (dict(scene="config/scenes/none.yaml"), "study.scene", "cannot read"),
     (dict(regression={"features": ["f_tu", "f_x^2"]}), "study.regression.features.1", "'f_x' in 'f_x^2' is not an input"),
     (dict(regression={"features": ["f_tu^"]}), "study.regression.features.0", "is not an arithmetic expression"),
@@ -144,3 +162,24 @@ def test_the_inputs_columns_and_terms_of_a_study(tmp_path):
                           regression=None))
     assert (t.sweep_name, t.level_column(), t.levels) == ("joint_thickness", "joint_thickness_mm", (0.01, 0.012))
     assert t.features == tuple(v.name for v in t.variables) + ("joint_thickness",)
+
+
+def test_the_regression_variant_is_the_first_that_draws_per_wallette(tmp_path):
+    """Not given: the first variant drawing one value per wallette (here
+    the second); given, it must draw so."""
+    s = load_study(_study(tmp_path, variants={"fields": {"draw": "items"}, "walls": {"draw": "wallette"}}))
+    assert list(s.variants) == ["fields", "walls"] and s.regression_variant == "walls"
+    with pytest.raises(InputError) as e:
+        load_study(_study(tmp_path, regression={"variant": "spatial"}))
+    assert e.value.field == "study.regression.variant" and "per wallette" in e.value.reason
+
+
+def test_the_wallette_of_mean_properties_takes_each_variables_mean():
+    """Its settings: the rules, and each variable at the mean the file
+    gives (Table 2's, in SI: a lognormal's mean, not its median)."""
+    s = load_study(WILLIS)
+    m = s.mean_settings()
+    assert {k: m[k] for k in ("materials.joints.ft", "materials.units.ft", "materials.joints.phi",
+                              "materials.units.E")} == {"materials.joints.ft": 0.30e6, "materials.units.ft": 3.75e6,
+                                                        "materials.joints.phi": 35.0, "materials.units.E": 15e9}
+    assert m["materials.joints.GI_per_ft"] == s.rules["materials.joints.GI_per_ft"]

@@ -500,19 +500,130 @@ def test_an_interrupted_run_resumes_with_what_is_missing(tmp_path):
 
 
 def test_a_further_study_gets_a_report_page_that_states_its_numbers(tmp_path):
-    """config further_studies: the NF study's committed tables become one
-    page of the report (statistics, then equations), and its caption gives
-    the non-spatial means and the equations as its statistics.csv and
-    equations.csv hold them."""
-    r = subprocess.run(SNAKEMAKE + [f"{tmp_path}/report/studies/nf.html", "--cores", "1",
-                                    "--config", f"results={tmp_path}"], capture_output=True, text=True)
+    """config further_studies: a study's tables (made up here, with numbers
+    known in advance) become one page of the report (statistics, then
+    equations), and its caption gives the means of its regression
+    variant's runs at each level and its equations as written."""
+    demo = tmp_path / "demo"
+    (demo / "study").mkdir(parents=True)
+    st = pd.DataFrame(dict(variant=["nonspatial"] * 2 + ["spatial"] * 2, sigma_v_mpa=[0.0, 0.5] * 2, mode="all",
+                           count=10, P_max_mean_kN=[11.125, 15.5, 99.0, 99.0], P_max_cov=[0.21, 0.12, 0.5, 0.5],
+                           strength_mean_mpa=[1.6, 2.2, 9.0, 9.0], brick_share=[0.1, 0.6, 0.0, 0.0], excluded=0))
+    st.to_csv(demo / "study" / "statistics.csv", index=False)
+    eq = pd.DataFrame(dict(mode=["joint", "brick", "lower of two"], n=[12, 8, 20],
+                           equation=["sigma = 0.2 + 4.5 f_tj  (MPa)", "sigma = 0.5 + 0.5 f_tu  (MPa)",
+                                     "min(joint, brick)"]))
+    eq.to_csv(demo / "study" / "equations.csv", index=False)
+    extra = tmp_path / "extra.yaml"
+    extra.write_text(yaml.safe_dump({"further_studies": {"demo": {
+        "title": "demo", "results": str(demo), "workflow": "config/studies/nf_workflow.yaml"}}}))
+    r = subprocess.run(SNAKEMAKE + [f"{tmp_path}/report/studies/demo.html", "--cores", "1", "--configfile",
+                                    "config/config.yaml", str(extra), "--config", f"results={tmp_path}"],
+                       capture_output=True, text=True)
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
-    page = (tmp_path / "report" / "studies" / "nf.html").read_text()
-    caption = (tmp_path / "report" / "further_study_nf.rst").read_text()
-    st = pd.read_csv("results/studies/nf/study/statistics.csv")
-    eq = pd.read_csv("results/studies/nf/study/equations.csv")
-    assert page.count("<table") == 2 and page.count("</html>") == 1
-    assert page.count("<tr>") >= len(st) + len(eq)
-    for row in st[(st.variant == "nonspatial") & (st["mode"] == "all")].itertuples():
-        assert f"{row.sigma_v_mpa:g} MPa: {row.P_max_mean_kN:.2f} kN" in caption
-    assert eq.set_index("mode").equation["joint"] in caption
+    page = (tmp_path / "report" / "studies" / "demo.html").read_text()
+    caption = (tmp_path / "report" / "further_study_demo.rst").read_text()
+    assert page.count("<table") == 2 and page.count("</html>") == 1 and page.count("</tr>") == len(st) + len(eq) + 2
+    assert ("0 MPa: 11.12 kN (COV 0.21), 1.60 MPa, brick share 10%; 0.5 MPa: 15.50 kN (COV 0.12), 2.20 MPa, "
+            "brick share 60%") in caption
+    assert "99.00" not in caption          # the other variant's runs are not the regression variant's
+    assert "sigma = 0.2 + 4.5 f_tj  (MPa)" in caption and "sigma = 0.5 + 0.5 f_tu  (MPa)" in caption
+
+
+def test_the_sensitivity_rule_produces_the_indices_of_a_known_law(tmp_path):
+    """The workflow's sensitivity rule (smoke config, the Willis study
+    file) on runs whose strength is a known law of two inputs, 4 f_tj +
+    0.5 f_tu (MPa), over 30 samples at two levels: a linear surrogate, and
+    Sobol indices over the study's own distributions (f_tj lognormal, mean
+    0.3 MPa, COV 0.4: variance 0.12^2; f_tu mean 3.75 MPa, COV 0.25:
+    0.9375^2), S = 16 x 0.0144 : 0.25 x 0.8789 = 0.512 : 0.488; f_tu is
+    correlated with E_b but comes first in the study file, so it carries
+    the full index and E_b none; phi_j none."""
+    from masonrydem.study.file import load_study
+    from masonrydem.study.sampling import wallette_samples
+    study = load_study("config/studies/willis.yaml")
+    table, _ = wallette_samples(30, 3, study.variables, study.correlations)
+    (tmp_path / "study").mkdir()
+    cols = study.columns()
+    runs = pd.DataFrame([{"variant": "nonspatial", "sample": r["sample"], "sigma_v_mpa": sv, "ok": True,
+                          "failure_mode": "joint", "P_max_kN": 1.0,
+                          **{cols[v.name]: r[v.name] / (1e6 if study.units[v.name] == "Pa" else 1.0)
+                             for v in study.variables}}
+                         for r in table.to_dict("records") for sv in (0.0, 0.5)])
+    runs["strength_mpa"] = 4.0 * runs.f_tj_mpa + 0.5 * runs.f_tu_mpa
+    runs.to_parquet(tmp_path / "study" / "runs.parquet")
+    pd.DataFrame(dict(variant="nonspatial", sigma_v_mpa=[0.0, 0.5], mode="all", f_tj_mpa=0.0, f_tu_mpa=0.0,
+                      phi_j_deg=0.0, E_b_mpa=0.0)).to_csv(tmp_path / "study" / "correlations.csv", index=False)
+    out = tmp_path / "study" / "sensitivity.csv"
+    r = subprocess.run(SNAKEMAKE + [str(out), "--allowed-rules", "sensitivity", "--cores", "1", "--configfile",
+                                    "config/smoke.yaml", "--config", f"results={tmp_path}"], capture_output=True,
+                       text=True)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    t = pd.read_csv(out)
+    t = t[t["mode"] == "all"]
+    v_tj, v_tu = 16 * (0.4 * 0.3) ** 2, 0.25 * (0.25 * 3.75) ** 2
+    for sv, g in t.groupby("sigma_v_mpa"):
+        g = g.set_index("input")
+        assert (g.surrogate == "linear").all() and (g.cv_r2 > 0.999).all()
+        for col, share in (("f_tj_mpa", v_tj / (v_tj + v_tu)), ("f_tu_mpa", v_tu / (v_tj + v_tu)),
+                           ("phi_j_deg", 0.0), ("E_b_mpa", 0.0)):
+            assert g.loc[col, "ST"] == pytest.approx(share, abs=0.01) and g.loc[col, "S1"] == pytest.approx(
+                share, abs=0.01), (sv, col)
+
+
+def test_the_workflow_refuses_a_bad_study_file_at_planning_as_check_does(tmp_path):
+    """The workflow runs the study file's checks when it plans: a standard
+    deviation without its unit stops it with exit 2, the key named and the
+    message `masonrydem check` gives, no traceback, nothing run."""
+    study = tmp_path / "study.yaml"
+    study.write_text(open("config/studies/willis.yaml").read().replace("mean: 0.30 MPa, cov: 0.40",
+                                                                        "mean: 0.30 MPa, sd: 0.12"))
+    extra = tmp_path / "extra.yaml"
+    extra.write_text(yaml.safe_dump({"study": {"file": str(study)}}))
+    r = subprocess.run(SNAKEMAKE + ["-n", "--configfile", "config/smoke.yaml", str(extra), "--config",
+                                    f"results={tmp_path / 'results'}"], capture_output=True, text=True)
+    check = subprocess.run([sys.executable, "-m", "masonrydem.cli", "check", str(study)], capture_output=True,
+                           text=True)
+    assert r.returncode == 2 and check.returncode == 2
+    message = check.stderr.strip().splitlines()[-1]
+    assert message.startswith("masonrydem: invalid input: study.variables.f_tj.sd: 0.12 has no unit")
+    assert message in r.stderr and "Traceback" not in r.stderr + r.stdout
+    assert not (tmp_path / "results").exists()
+
+
+# what the Willis study's words and numbers are: its name, its variants, its
+# inputs and columns, its wallette's counts and size, its levels beyond the
+# small study's
+WILLIS_WORDS = ("willis", "nonspatial", "non-spatial", "spatial", "f_tj", "f_tu", "phi_j", "E_b", "sigma_v",
+                "24 units", "38 joints", "100 runs", "1000 runs", "both variants", "230 x", "0.5 MPa", "0.15 MPa")
+
+
+def test_a_small_studys_report_is_written_from_its_own_file(tmp_path):
+    """The committed worked example (config/studies/waal.yaml: other
+    variable names, one variant, no paper, levels up to 0.3 MPa): its
+    report, built from its committed results by its own workflow config,
+    has no dead link (docutils reports none) and none of the Willis study's
+    words or numbers; its landing page names its study, wallette and
+    variant and links only the categories it has."""
+    import zipfile
+    out = tmp_path / "report.zip"
+    r = subprocess.run(SNAKEMAKE + ["--report", str(out), "--configfile", "config/config.yaml",
+                                    "config/studies/waal_workflow.yaml"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
+    with zipfile.ZipFile(out) as z:
+        html = z.read(next(n for n in z.namelist() if n.endswith("report.html"))).decode()
+        files = "".join(z.read(n).decode() for n in z.namelist()
+                        if n.endswith((".html", ".csv", ".rst", ".json")) and not n.endswith("report.html"))
+    # what the report says: its landing page, its results' captions, its categories (the rest of the page
+    # is the report's own code, and the rules' code), and the tables and pages it holds
+    said = "".join(re.findall(r'<script id="(?:workflow-desc|results|categories)">(.*?)</script>', html, re.S))
+    said += files
+    assert len(said) > 10_000 and "Unknown target name" not in said and "System Message" not in said
+    low = said.lower()
+    found = [w for w in WILLIS_WORDS if w.lower() in low]
+    assert not found, found
+    landing = open("results/studies/waal/report/workflow.rst").read()
+    assert landing.startswith("masonrydem: the study waal") and "per_wall: one draw" in landing
+    assert "8 courses of 4 units of 210 x 50 x 100 mm" in landing
+    links = set(re.findall(r"^- `?([A-Za-z0-9 -]+)`?_:", landing, re.M))
+    assert links == {"Study", "Prediction", "3-D pictures"}, links

@@ -3,11 +3,11 @@ user, the study's jobs and the workflow's runs alike.
 
   masonrydem run SCENE.yaml [--set path.to.key=value ...] --out DIR [--state] [--quiet] [--threads N]
       [--samples FILE --sample N --variant V] [--format parquet|json] [--exit-zero]
-  masonrydem check SCENE.yaml [--set path.to.key=value ...]
+  masonrydem check SCENE.yaml [--set path.to.key=value ...] | masonrydem check STUDY.yaml
   masonrydem predict PREDICTOR NAME=VALUE ...
 
-``check`` validates a scene and estimates its run (check.py) without
-building anything; ``predict`` evaluates a study's prediction equations
+``check`` validates a scene or a study file and estimates what it runs
+(pipeline/check.py) without building, drawing or running anything; ``predict`` evaluates a study's prediction equations
 (predict.py).
 
 Exit codes: 0 the run ended ok; 1 it ended not ok (its row says why:
@@ -231,10 +231,17 @@ def _process_start():
 
 
 def _check(args):
-    """``check``: the scene validated and described; nothing built or run."""
-    from .pipeline.check import summary
+    """``check``: a scene or a study file validated and described; nothing
+    built, drawn or run."""
+    from .pipeline.check import is_study, study_summary, summary
     from .specimen.scene import build_scene
-    print("\n".join(summary(build_scene(args.scene, args.set))))
+    if is_study(args.scene):
+        from .study.file import load_study
+        if args.set:
+            raise InputError("--set", "changes a scene's settings; a study file's are its own: edit the file")
+        print("\n".join(study_summary(load_study(args.scene))))
+    else:
+        print("\n".join(summary(build_scene(args.scene, args.set))))
     return 0
 
 
@@ -247,7 +254,11 @@ def _predict(args):
         if not eq or not name.strip():
             raise InputError("predict", f"{text!r} is not NAME=VALUE (such as f_tu='3.5 MPa')")
         inputs[name.strip()] = value
-    print("\n".join(predict(args.predictor, {n: n for n in inputs}, **inputs).lines()))
+    scene = None
+    if args.scene:
+        from .specimen.scene import build_scene
+        scene = build_scene(args.scene)
+    print("\n".join(predict(args.predictor, {n: n for n in inputs}, scene, **inputs).lines()))
     return 0
 
 
@@ -271,14 +282,16 @@ def parser():
     run.add_argument("--variant", help="with --samples: the sample's variant (as the study file names it)")
     run.add_argument("--exit-zero", action="store_true",
                      help="exit 0 whenever the row is written (its status says how the run ended)")
-    check = sub.add_parser("check", help="validate a scene and print its model's size and a run's estimated "
-                                         "time and memory; builds and runs nothing")
-    check.add_argument("scene", help="scene YAML file")
+    check = sub.add_parser("check", help="validate a scene or a study file and print what it would run, with its "
+                                         "estimated time and memory; builds, draws and runs nothing")
+    check.add_argument("scene", metavar="FILE", help="a scene or a study file (YAML)")
     check.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override a scene setting")
     pred = sub.add_parser("predict", help="a study's prediction equations: strength, load, failure mode and a "
                                           "95 %% prediction interval")
     pred.add_argument("predictor", help="the study's predictor file (its regression writes it: "
                                         "results/study/predictor.json)")
+    pred.add_argument("--scene", help="your wallette's scene: refused unless it is the one the equations were "
+                                      "fitted on")
     pred.add_argument("inputs", nargs="+", metavar="NAME=VALUE",
                       help="each input of the study's equations by its name in the study file, with its unit, "
                            "e.g. f_tu='3.5 MPa' (a plain number is SI)")
@@ -296,7 +309,8 @@ def main(argv=None, stream=None, started=None):
     try:
         return _run(args, stream, started) if args.command == "run" else COMMANDS[args.command](args)
     except InputError as e:
-        print(f"masonrydem: invalid input: {e}", file=err)
+        from .pipeline.check import explained
+        print(f"masonrydem: invalid input: {explained(e)}", file=err)
         return 2
     except Exception:
         traceback.print_exc(file=err)

@@ -11,9 +11,20 @@ from masonrydem.pipeline import plan
 from masonrydem.pipeline.plan import reference_checks, reference_runs
 from masonrydem.pipeline.snakemake_state import stop_rate_limiter_timers
 
+# a stage set to null (by a study's own workflow config, over config.yaml's)
+# is no stage of this workflow
+for key in ("validation", "hard_cases", "half_rate", "reduced", "specimens", "modelform", "accuracy",
+            "further_studies", "geometry_formats"):
+    if key in config and config[key] is None:
+        del config[key]
 validate(config, "../../config/schema.yaml", set_default=True)
-# refused at planning, naming the setting: NaN or infinite values, overrides the scene refuses
-plan.check(config)
+# refused at planning, naming the setting as masonrydem check does (the
+# study file's mistakes, NaN or infinite values, overrides the scene refuses)
+try:
+    plan.check(config)
+except masonrydem.InputError as e:
+    print(f"masonrydem: invalid input: {e}", file=sys.stderr)
+    sys.exit(2)
 R = config["results"]  # root of every output (config/smoke.yaml: .test/results)
 # every rule's software for --sdm conda: the package from this checkout
 # (workflow/envs/masonrydem.yaml; the make commands use the venv instead)
@@ -94,6 +105,8 @@ def get_validation_sets(wildcards):
 
 
 def get_validation_outputs():
+    if not config.get("validation"):
+        return []
     return [f"{R}/validation/summary.csv", f"{R}/validation/load_displacement.png",
             f"{R}/validation/model_numbering.png",
             *(f"{R}/validation/damage_{run}.png" for run in config["validation"]["pictures"])]

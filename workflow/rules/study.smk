@@ -98,6 +98,7 @@ rule statistics:
         code=get_code("statistics"),
         bootstrap=config["study"]["bootstrap"],
         analysis=plan.analysis(config),
+        report=plan.report_spec(config),
     log:
         f"{R}/logs/study/statistics.log",
     conda:

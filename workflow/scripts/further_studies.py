@@ -25,5 +25,5 @@ for name, study in sm.params.studies.items():
     eqs = eq.set_index("mode").equation
     captions.write_caption(sm.input.template, sm.output[f"{name}_caption"], title=study["title"],
                            results=study["results"], workflow=study["workflow"], means=means,
-                           joint=eqs.get("joint", "none"), brick=eqs.get("brick", "none"))
+                           joint=eqs.get("joint", "none"), brick=eqs.get("brick", "none"), variant=spec["variant"])
     print(name, st.shape, eq.shape)

@@ -32,22 +32,24 @@ pd.DataFrame(rows).merge(intervals, on="mode", how="left").to_csv(sm.output.equa
 F.predicted_vs_simulated(fits, sm.output.predicted)
 scene = build_scene(sm.input.scene)
 with open(sm.output.predictor, "w") as f:       # masonrydem predict
-    json.dump(predict.build(fits, ns, scene, f"the study's {len(ns)} ok {variant} runs", columns, reg["units"], variant,
-                            sm.params.settings, read_scene(sm.input.scene).get("loading", {}).get("bending", {})),
-              f, indent=1)
+    skipped = {r["mode"]: r["equation"] for r in rows if r["mode"] in ("joint", "brick") and r["mode"] not in fits}
+    json.dump(predict.build(fits, ns, scene, f"its {len(ns)} ok {variant} runs", columns, reg["units"], variant,
+                            sm.params.settings, read_scene(sm.input.scene).get("loading", {}).get("bending", {}),
+                            study=reg["study"], level=reg["level"], skipped=skipped), f, indent=1)
 print(pd.DataFrame(rows).to_string())
-captions.write_captions(sm.input.templates[:1], sm.output.captions[:1], dict(equations=captions.equations(rows)))
+captions.write_captions(sm.input.templates[:1], sm.output.captions[:1],
+                        dict(equations=captions.equations(rows, terms, variant)))
 if reg["precompression"]:
     study = plan.study(sm.config)
     design = V.design_inputs(build_scene(study.scene, settings=study.mean_settings()))
     table = V.design_table(fits, ns, resid_sd, np.linspace(runs[level].min(), runs[level].max(), 51), design,
-                           reg["means"], columns, reg["level"])
+                           reg["means"], columns, reg["level"], level)
     simulated = ns.groupby(level).strength_mpa.agg(["mean", "std"])
     F.design_comparison(table, simulated, sm.output.design, variant)
     table.to_csv(sm.output.design_table, index=False, float_format="%.5g")
     captions.write_captions(sm.input.templates[1:], sm.output.captions[1:], dict(
         design_comparison=captions.design_comparison(table, simulated, list(fits), resid_sd, runs["sample"].nunique(),
-                                                     design)))
+                                                     design, variant)))
 else:   # the design rules are functions of the precompression at the mean properties
     why = (f"No design comparison: the design rules (Lourenco-Gaetani, AS3700) are functions of the "
            f"precompression, and this study sweeps {reg['setting']} ({reg['level']}).")

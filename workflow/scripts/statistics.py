@@ -19,4 +19,4 @@ low, high = runs[level.column].min(), runs[level.column].max()
 inc.assign(sigma_from=low, sigma_to=high).to_csv(sm.output.increase, index=False, float_format="%.4g")
 print(st.to_string())
 captions.write_captions(sm.input.templates, sm.output.captions,
-                        captions.statistics(runs, st, corr, inc, level, list(inputs)))
+                        captions.statistics(runs, st, corr, inc, level, list(inputs), sm.params.report))

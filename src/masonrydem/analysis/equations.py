@@ -21,9 +21,7 @@ from sklearn.linear_model import lars_path
 from sklearn.model_selection import GroupKFold
 from sklearn.preprocessing import StandardScaler
 
-from ..study.terms import evaluate_term
-
-MIN_GROUPS = 7   # nested 5-fold CV: each inner fit needs 5 groups of the outer 4/5
+from ..study.terms import MIN_SAMPLES, evaluate_term
 
 
 def inputs_of(runs, columns):
@@ -97,7 +95,7 @@ def fit_equation(inputs, strength, groups, terms, nested=True):
     squared error (LassoCV's choice, features standardised: ``_lasso``).
     ``groups``: the sample of each run; folds hold whole samples, because
     one sample's runs at the other levels share its properties and would
-    let a fold see the wallette it is tested on.  At least MIN_GROUPS
+    let a fold see the wallette it is tested on.  At least MIN_SAMPLES
     samples.
 
     Returns a dict with the intercept and coefficients in original units,
@@ -110,8 +108,8 @@ def fit_equation(inputs, strength, groups, terms, nested=True):
     X = features(inputs, terms)
     y = np.asarray(strength, float)
     groups = np.asarray(groups)
-    if np.unique(groups).size < MIN_GROUPS:
-        raise ValueError(f"{np.unique(groups).size} samples: nested 5-fold CV needs at least {MIN_GROUPS}")
+    if np.unique(groups).size < MIN_SAMPLES:
+        raise ValueError(f"{np.unique(groups).size} samples: nested 5-fold CV needs at least {MIN_SAMPLES}")
     fit = _lasso(X, y, groups)
     coef = fit.coef / fit.scaler.scale_
     intercept = float(fit.intercept - np.sum(coef * fit.scaler.mean_))
@@ -163,7 +161,7 @@ def prediction_over_samples(eq_joint, eq_brick, samples, level, levels):
 
 def prediction_equations(ns, terms, columns, nested=True):
     """Per failure mode, the equation fitted to the runs ``ns`` (the ok runs
-    of the study's regression variant) when they span MIN_GROUPS samples; then the
+    of the study's regression variant) when they span MIN_SAMPLES samples; then the
     predictor, the lower of the two (with one equation it stands for both),
     scored on every run of ``ns``.  Returns (fits, rows, residual_sd):
     mode -> (equation, simulated strengths); the equations table's rows;
@@ -171,9 +169,9 @@ def prediction_equations(ns, terms, columns, nested=True):
     fits, rows = {}, []
     for mode in ("joint", "brick"):
         g = ns[ns.failure_mode == mode]
-        if g["sample"].nunique() < MIN_GROUPS:
+        if g["sample"].nunique() < MIN_SAMPLES:
             rows.append(dict(mode=mode, n=len(g), equation=f"too few runs to fit ({g['sample'].nunique()} samples, "
-                                                              f"the nested 5-fold CV needs {MIN_GROUPS})"))
+                                                              f"the nested 5-fold CV needs {MIN_SAMPLES})"))
             continue
         eq = fit_equation(inputs_of(g, columns), g.strength_mpa, g["sample"], terms, nested=nested)
         fits[mode] = (eq, g.strength_mpa.to_numpy())

@@ -126,5 +126,9 @@ def caption_values(table, level):
                      f"Shapiro-Wilk p on the logs {p_sw}" + (f"; design rules at the mean properties: {design} MPa"
                                                              if design else ""))
     supported = int((table.supported == "lognormal").sum())
-    return dict(lines="\n".join(f"- {x}" for x in lines), n_groups=len(table), n_lognormal=supported,
+    n = int(table.n.max()) if len(table) else 0
+    r, s, coverage = order_ranks(n) if n else (None, None, 0.0)
+    ranks = (f"for {n} runs the order statistics {r} and {s} from the smallest, coverage {100 * coverage:.1f} %"
+             if r and s else f"for {n} runs no order statistic bounds the fractile on both sides")
+    return dict(lines="\n".join(f"- {x}" for x in lines), n_groups=len(table), n_lognormal=supported, ranks=ranks,
                 fractile=f"{100 * FRACTILE:g}", confidence=f"{100 * CONFIDENCE:g}")

@@ -25,16 +25,22 @@ import numpy as np
 from ..errors import InputError
 from ..specimen.quantities import is_plain, meant, shown, to_shown, to_si
 
-def build(fits, ns, scene, source, columns, units, variant, settings=None, raw_bending=None):
+def build(fits, ns, scene, source, columns, units, variant, settings=None, raw_bending=None, study=None, level=None,
+          skipped=None):
     """The predictor of the fitted equations ``fits`` (equations.
     prediction_equations: mode -> (equation, strengths)) on the runs
     ``ns``, for the wallette of the typed ``scene``; ``source``: where the
     runs came from (named in the printout); ``columns`` and ``units``: each
     input's column in ``ns`` and its SI unit (Study.columns, Study.units);
-    ``variant``: the study's variant the runs are of; ``settings``: the scene setting each random input drives;
-    ``raw_bending``: the scene file's loading.bending as written (whether
-    its section is the wall as built and its spans in unit lengths: then
-    both follow a brick that the inputs change, ``wallette_at``)."""
+    ``variant``: the study's variant the runs are of; ``settings``: the
+    scene setting each random input drives; ``raw_bending``: the scene
+    file's loading.bending as written (whether its section is the wall as
+    built and its spans in unit lengths: then both follow a brick that the
+    inputs change, ``wallette_at``); ``study``: the study's name;
+    ``level``: its swept input's name, whose levels' shares of each
+    failure mode among the runs are kept (``predict`` warns where a mode
+    it has no equation for occurs); ``skipped``: mode -> why it has no
+    equation."""
     from ..study.terms import parse_term
     used = dict.fromkeys(name for eq, _ in fits.values() for term in eq["coef"] for name in parse_term(term, units)[1])
     g, bend = scene.geometry, scene.loading.bending
@@ -44,8 +50,13 @@ def build(fits, ns, scene, source, columns, units, variant, settings=None, raw_b
         ratio = g_mode.strength_mpa.to_numpy() / eq["cv_predicted"]
         modes[mode] = dict(intercept=eq["intercept"], coef=eq["coef"], n=eq["n"], cv_mape_pct=eq["cv_mape"],
                            ratio_q025=float(np.quantile(ratio, 0.025)), ratio_q975=float(np.quantile(ratio, 0.975)))
+    shares = {}
+    if level is not None and len(ns):
+        for x, at in ns.groupby(columns[level]):
+            shares[repr(float(x))] = {m: float((at.failure_mode == m).mean()) for m in ("joint", "brick")}
     return dict(
-        source=source, scene=scene.name, variant=variant, modes=modes,
+        source=source, study=study, scene=scene.name, variant=variant, modes=modes, skipped=dict(skipped or {}),
+        level=level, mode_shares=shares,
         inputs={name: dict(unit=units[name], shown=shown(units[name])[0], column=columns[name],
                             **({"setting": settings[name]} if name in (settings or {}) else {})) for name in used},
         fitted_range={name: [float(ns[columns[name]].min()), float(ns[columns[name]].max())] for name in used},
@@ -97,11 +108,15 @@ class Prediction:
     units: dict                 # input -> that unit
     wallette: dict
     source: str
+    warnings: tuple = ()        # what the answer cannot vouch for (a mode without its equation)
 
     def lines(self):
         w = self.wallette
         which = "for this brick's wallette" if w.get("brick_from_inputs") else "for the wallette they were fitted on"
-        out = [f"the equations of {self.source}, {which}: {_wallette(w)}; section "
+        out = ["the strength of one wallette with these properties, by a study's prediction equations: not a mean "
+               "strength and not a characteristic (5 %) value, which the study's statistics and characteristic "
+               "tables give",
+               f"the equations of {self.source}, {which}: {_wallette(w)}; section "
                f"b = {w['section_height_m']:g} m, thickness h = {w['thickness_m']:g} m, shear span a = "
                f"{w['shear_span_m']:.4g} m (sigma = 6 M / (b h^2), M = P a / 2)",
                "  " + ", ".join(f"{k} {v:g} {self.units[k]}".rstrip() for k, v in self.inputs.items())]
@@ -110,6 +125,7 @@ class Prediction:
         out.append(f"governing: {self.mode} failure, strength {self.strength_mpa:.3f} MPa (95 % prediction interval "
                    f"{lo:.3f} to {hi:.3f} MPa), load P = {self.load_kN:.2f} kN ({self.interval_kN[0]:.2f} to "
                    f"{self.interval_kN[1]:.2f} kN)")
+        out += [f"WARNING: {x}" for x in self.warnings]
         return out
 
 
@@ -133,14 +149,19 @@ def load(path):
     return p
 
 
-def predict(study, options=None, **inputs):
-    """The prediction at the ``inputs`` the equations use (quantities such
-    as '3.5 MPa', or numbers in SI); ``study``: a predictor file or its
-    mapping (build);
-    ``options``: input -> how the caller named it (in errors; the input's
-    name by default)."""
+def predict(study, options=None, scene=None, **inputs):
+    """The prediction at the ``inputs`` the equations use (texts, as a user
+    types them, with their units: '3.5 MPa'; numbers: SI); ``study``: a
+    predictor file or its mapping (build); ``options``: input -> how the
+    caller named it (in errors; the input's name by default); ``scene``:
+    the typed scene of the user's wallette, refused unless it is the one
+    the equations were fitted on."""
     p = load(study) if isinstance(study, str) else study
     source = p["source"] if isinstance(study, dict) else f"{study} ({p['source']})"
+    if p.get("study"):
+        source = f"the study {p['study']!r}: {source}"
+    if scene is not None:
+        _same_wallette(p, scene)
     options = options or {}
     unknown = sorted(set(inputs) - set(p["inputs"]))
     if unknown:
@@ -156,7 +177,45 @@ def predict(study, options=None, **inputs):
     return Prediction(strength_mpa=s, mode=mode, interval_mpa=interval, load_kN=s * to_kN,
                       interval_kN=tuple(v * to_kN for v in interval), by_mode=by_mode, inputs=x,
                       units={k: spec["shown"] for k, spec in p["inputs"].items()},
-                      wallette=w, source=source)
+                      wallette=w, source=source, warnings=tuple(_warnings(p, x, by_mode)))
+
+
+def _warnings(p, x, by_mode):
+    """A failure mode without its equation: what the answer then cannot
+    vouch for, and how often the study's runs failed so near these inputs
+    (at the nearest level of its swept input)."""
+    out = []
+    for mode in ("joint", "brick"):
+        if mode in by_mode:
+            continue
+        why = p.get("skipped", {}).get(mode, "too few runs failed in it")
+        line = (f"no {mode}-failure equation ({why}): the answer is the {next(iter(by_mode))} equation's, too high "
+                f"wherever the {mode} mode governs")
+        shares, level = p.get("mode_shares") or {}, p.get("level")
+        if shares and level in x:
+            nearest = min(shares, key=lambda k: abs(float(k) - x[level]))
+            share = shares[nearest][mode]
+            line += (f"; {share:.0%} of the study's runs at {level} = {float(nearest):g} "
+                     f"{p['inputs'][level]['shown']} failed in the {mode} mode").rstrip()
+        out.append(line)
+    return out
+
+
+def _same_wallette(p, scene):
+    """Refuses a scene whose wallette is not the one the equations were
+    fitted on (its bricks where the equations do not take their size as
+    inputs, its courses and units in any case)."""
+    w, g = p["wallette"], scene.geometry
+    brick_inputs = any(spec.get("setting") in BRICK for spec in p["inputs"].values())
+    mine = dict(courses=g.courses, units_per_course=g.units_per_course, joint_mm=g.joint_thickness * 1e3,
+                unit_mm=[g.unit_length * 1e3, g.unit_height * 1e3, g.unit_width * 1e3])
+    keys = ("courses", "units_per_course") if brick_inputs else ("courses", "units_per_course", "unit_mm", "joint_mm")
+    if any(not np.allclose(mine[k], w[k], rtol=1e-9) for k in keys):
+        raise InputError("--scene", f"its wallette ({_wallette(mine)}) is not the one these equations were fitted on "
+                                    f"({_wallette(w)}): their answer would not hold for it.  Fit equations on your "
+                                    "own wallette (a study file of your scene: docs/your-own-study.md), or use a "
+                                    "predictor whose inputs include the brick's size (the geometry study's: "
+                                    "results/studies/geometry/study/predictor.json)")
 
 
 def _checked(p, name, spec, inputs, option):
@@ -164,6 +223,9 @@ def _checked(p, name, spec, inputs, option):
     if name not in inputs:
         raise InputError(option, f"missing: the equations take {', '.join(p['inputs'])}")
     value, unit = inputs[name], spec["unit"]
+    if unit and isinstance(value, str) and is_plain(value) and float(value) != 0:
+        raise InputError(option, f"{value!r} has no unit, and {name} is a quantity: did you mean "
+                                 f"'{float(value):g} {spec['shown']}'?")
     x = to_shown(to_si(value, unit, option), unit)
     lo, hi = p["fitted_range"][name]
     if not lo <= x <= hi:

@@ -5,9 +5,10 @@ Method:
 1. **Surrogate.** A linear and a quadratic (ridge) regression of the
    strength on the random inputs, each scored by 5-fold cross-validated
    R^2 on the group's runs; the better one is kept and its out-of-sample
-   R^2 reported.  Below MIN_R2 the inputs do not explain the strength (the
-   spatial variant, whose strength follows the field of unit and joint
-   values, not the wallette's recorded inputs), and no index is given.
+   R^2 reported.  Below MIN_R2 the inputs do not explain the strength (a
+   variant that draws per unit or joint, whose strength follows the field
+   of unit and joint values, not the wallette's recorded field means; or
+   too few runs for the surrogate), and no index is given.
 2. **Indices.** First-order S1 and total ST Sobol indices of the surrogate
    over the study's input distribution, by SALib's Sobol sequence
    (Saltelli's scheme, N_BASE base points) and its estimators (Saltelli
@@ -200,8 +201,8 @@ def caption_values(table, level, variables, correlations):
         head = (f"{variant}, {level.text(lv)}: {g.surrogate.iloc[0]} surrogate, "
                 f"cross-validated R^2 {g.cv_r2.iloc[0]:.2f}")
         if g.ST.isna().all():
-            lines.append(f"{head}; no indices: the inputs the runs record (for a spatial variant, the means "
-                         f"of its fields, which hardly vary between samples) do not explain the strength")
+            lines.append(f"{head}; no indices: the inputs the runs record (for a variant that draws per unit or "
+                         f"joint, the means of its fields) do not explain the strength")
             continue
         ranked = g.sort_values("ST", ascending=False)
         lines.append(head + "; " + ", ".join(

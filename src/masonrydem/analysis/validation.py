@@ -207,7 +207,7 @@ def design_inputs(scene):
                 ft_joints=scene.value("materials.joints.ft") / 1e6, ft_units=scene.value("materials.units.ft") / 1e6)
 
 
-def design_table(fits, ns, resid_sd, levels, design, means, columns, level):
+def design_table(fits, ns, resid_sd, levels, design, means, columns, level, level_column):
     """Against the precompression ``levels``: the lower-of-two prediction
     at the mean properties with a band of one standard deviation, which
     combines the scatter of the prediction over the sampled properties
@@ -218,7 +218,8 @@ def design_table(fits, ns, resid_sd, levels, design, means, columns, level):
     f_mt from f_tj, the flexural bond ~ the joint's tensile bond, f_ut from
     f_tu).  NaN predictions without an equation.  ``means``: each input's
     mean (Study.means), ``columns``: the inputs' columns in ``ns``,
-    ``level``: the precompression's name as an input."""
+    ``level``: the precompression's name as an input, ``level_column``
+    its column (the table's first)."""
     f_tu, f_tj = design["ft_units"], design["ft_joints"]
     pred = band = prop_sd = prop_mean = np.full_like(levels, np.nan)
     if fits:
@@ -229,9 +230,9 @@ def design_table(fits, ns, resid_sd, levels, design, means, columns, level):
         band = np.sqrt(prop_sd ** 2 + resid_sd ** 2)
     lg = lourenco_gaetani(design["c_ratio"] * f_tj, f_tu, design["l_o"], design["h_b"])
     as_stepped, as_line = as3700(f_tj, f_tu, levels)
-    return pd.DataFrame(dict(sigma_v_mpa=levels, prediction=pred, band_sd=band, property_sd=prop_sd,
+    return pd.DataFrame({level_column: levels, **dict(prediction=pred, band_sd=band, property_sd=prop_sd,
                              mean_over_samples=prop_mean, lg_stepped=lg[0], lg_brick=lg[1], as3700_stepped=as_stepped,
-                             as3700_line=as_line))
+                             as3700_line=as_line)})
 
 
 # --- the source paper side by side (docs/study.md, 17; docs/findings.md) ---------------

@@ -1,6 +1,9 @@
-"""``masonrydem check SCENE``: the scene validated, the model it builds
-counted, and a run's time and memory estimated, from the scene's numbers
-alone: nothing is built or run.
+"""``masonrydem check FILE``: a scene or a study file validated, and what
+it would run counted and estimated from its own numbers alone: nothing is
+built, drawn or run.  A scene: the model it builds and one run's time and
+memory.  A study file: its variables, correlations, variants and levels as
+read (in SI and as written), the runs it makes, and their cost from its
+scene's estimate.
 
 The time is the cost of one step times the steps.  The cost of a step
 is the sum of each kind of item times its measured cost on one core
@@ -10,9 +13,16 @@ node update about 9 ns a node).  The steps are bounded by the drive: the
 ramp and the displacement limit over the rate, at most the test's
 max_steps, and the precompression's own stage.  A run that reaches its
 load drop, or passes its peak, stops sooner."""
+import difflib
 import math
+import re
 
 from ..dem.laws import MohrCoulomb
+from ..errors import InputError
+from ..specimen.files import read_scene
+from ..specimen.quantities import shown, to_shown
+from ..specimen.scene import SCHEMA as SCENE_SCHEMA
+from ..specimen.scene import build_scene
 from ..specimen.size import model_size
 
 # seconds per step and item, one core (docs/speed.md, 2026-11-25)
@@ -35,6 +45,13 @@ def step_bound(scene):
     return drive, (pre.max_steps if pre.pressure > 0 else 0)
 
 
+def is_study(path):
+    """Whether the YAML file at ``path`` is a study file (it names its
+    variables and its sweep) rather than a scene."""
+    raw = read_scene(path, "file")
+    return "variables" in raw or "sweep" in raw
+
+
 def summary(scene):
     """The lines ``check`` prints for a validated scene."""
     g, ph, num = scene.geometry, scene.physics, scene.discretization
@@ -42,10 +59,13 @@ def summary(scene):
     per_step = step_seconds(scene, size)
     drive, pre = step_bound(scene)
     L, H, T = g.unit_length, g.unit_height, g.unit_width
+    cracks = g.n_units if ph.model.crack_interface else 0
+    joints = f"{len(g.joints) + cracks} joints" + (f": {len(g.joints)} mortar joints and {cracks} crack interfaces "
+                                                    "of the potential-crack units" if cracks else "")
     lines = [
         f"scene {scene.name!r}: valid",
         f"  specimen: {g.courses} courses x {g.units_per_course} units of {L * 1e3:g} x {H * 1e3:g} x "
-        f"{T * 1e3:g} mm, joints {g.joint_thickness * 1e3:g} mm ({g.n_units} units, {len(g.joints)} joints)",
+        f"{T * 1e3:g} mm, joints {g.joint_thickness * 1e3:g} mm ({g.n_units} units, {joints})",
         f"  physics: {ph.blocks} blocks, {ph.joints} joints; test: {scene.loading.test}",
         f"  model: {size['nodes']:,} nodes, {size['tetrahedra']:,} tetrahedra, {size['cells']:,} cells, "
         f"{size['sub_contacts']:,} sub-contacts (upper estimates; cells {list(num.cells)}, "
@@ -58,6 +78,63 @@ def summary(scene):
         "  nothing was built or run",
     ]
     return lines
+
+
+def study_summary(study):
+    """The lines ``check`` prints for a typed study (study.file.load_study:
+    everything in it already checked): what it draws, what it runs, and
+    the runs' cost from its scene's estimate at the mean properties and
+    each level."""
+    scene = build_scene(study.scene, settings=study.mean_settings())
+    runs = study.samples * len(study.variants) * len(study.levels)
+    per_step = step_seconds(scene, model_size(scene.geometry, scene.physics, scene.discretization, scene.loading))
+    drive, _ = step_bound(scene)
+    lines = [f"study {study.name!r}: valid", f"  scene: {study.scene} ({scene.name})"]
+    for v in study.variables:
+        unit = study.units[v.name]
+        spread = f"cov {v.cov:g}" if v.cov is not None else (f"sd {_shown(v.sd, unit)}" if v.sd is not None else "")
+        where = f"{v.bounds and ' cut to ' + ' to '.join(_shown(b, unit) for b in v.bounds) or ''}"
+        mean = _shown(v.mean, unit) if v.mean is not None else "uniform"
+        lines.append(f"  {v.name}: {v.dist}, mean {mean}, {spread}{where} -> {v.setting}"
+                     + (f" (one per {v.per} where a variant draws per item)" if v.per else ""))
+    lines += [f"  correlation {a}-{b}: {rho:g}" for (a, b), rho in study.correlations.items()]
+    lines += [f"  variant {n}: draws {v['draw']}" + (f", correlation length {v['correlation_length']:g} m"
+                                                      if v["correlation_length"] else "")
+              for n, v in study.variants.items()]
+    unit = study.units[study.sweep_name]
+    lines += [f"  sweep {study.sweep_name} ({study.sweep_setting}): "
+              + ", ".join(_shown(x, unit) for x in study.levels),
+              f"  regression: {', '.join(study.features)} on the variant {study.regression_variant or '(none)'}",
+              f"  runs: {study.samples} samples x {len(study.variants)} variant(s) x {len(study.levels)} levels = "
+              f"{runs:,}; each drive at most {drive:,} steps, {_duration(drive * per_step)} on one core (the scene's "
+              "estimate at the mean properties), before a precompression's own steps; a run that passes its peak "
+              "stops sooner",
+              "  nothing was drawn or run"]
+    return lines
+
+
+def _shown(x, unit):
+    text, _, _ = shown(unit)
+    return f"{to_shown(x, unit):g} {text}".rstrip()
+
+
+_UNEXPECTED = re.compile(r"Additional properties are not allowed \('([^']+)' was unexpected\)")
+
+
+def explained(error):
+    """An InputError of a scene, with a suggestion where one fits: a key the
+    scene's schema does not know is named with the nearest one it does."""
+    m = _UNEXPECTED.fullmatch(error.reason)
+    if not m:
+        return error
+    node = SCENE_SCHEMA
+    for key in ([] if error.field == "scene" else error.field.split(".")):
+        node = node.get("properties", {}).get(key, {}) if isinstance(node, dict) else {}
+    known = list(node.get("properties", {})) if isinstance(node, dict) else []
+    near = difflib.get_close_matches(m[1], known, n=1, cutoff=0.6)
+    field = m[1] if error.field == "scene" else f"{error.field}.{m[1]}"
+    return InputError(field, "is not a setting here" + (f": did you mean {near[0]!r}?" if near else "")
+                      + (f" (the settings: {', '.join(known)})" if known else ""))
 
 
 def _duration(seconds):

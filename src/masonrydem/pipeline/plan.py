@@ -25,8 +25,8 @@ def _by_name(cases):
 # --- validation ----------------------------------------------------------
 def validation_runs(config):
     """Run ids '<case>_sv<sigma_v>': every case at every precompression."""
-    v = config["validation"]
-    return [f"{c['name']}_sv{sv}" for c in v["cases"] for sv in v["precompression_mpa"]]
+    v = config.get("validation")
+    return [f"{c['name']}_sv{sv}" for c in v["cases"] for sv in v["precompression_mpa"]] if v else []
 
 
 def validation_overrides(config, case, sv):
@@ -120,8 +120,10 @@ def study(config):
 
 @lru_cache(maxsize=None)
 def _study(path, samples, seed, levels):
-    from ..study.file import load_study, with_levels
+    from ..study.file import check_samples, load_study, with_levels
     st = load_study(path)
+    if samples is not None:
+        check_samples(samples, "study.samples")
     changes = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
     if levels is not None:
         st = with_levels(st, [_number(x) for x in levels], "study.levels")
@@ -195,6 +197,52 @@ def further_study(workflow_config):
         path = yaml.safe_load(f)["study"]["file"]
     st = _study(path, None, None, None)
     return dict(variant=st.regression_variant, level_column=st.level_column(), level_unit=st.level_unit())
+
+
+# the report's categories, what each holds, and the config section that makes it
+CATEGORIES = [
+    ("Study", "the statistics, correlations, the increase over the swept levels, the curves by failure mode, the "
+              "running means, the Sobol indices", None),
+    ("Prediction", "the Lasso-selected prediction equations, the design comparison and the characteristic "
+                   "strengths", None),
+    ("Paper side by side", "every figure the source paper publishes beside ours, with our 95 % intervals", "paper"),
+    ("Model form", "what each modelling assumption does to P_max", "modelform"),
+    ("Accuracy", "how the numerical settings were chosen, and what finer ones would change", "accuracy"),
+    ("Validation", "deterministic runs of the scene", "validation"),
+    ("Stability", "hard cases: the tails of the inputs, high precompression, tiny fracture energies", "hard_cases"),
+    ("Reduced models", "rigid and elastic units against the full model", "reduced"),
+    ("Specimens", "the further tests: direct tension and triplet shear", "specimens"),
+    ("Further studies", "other studies, each run on its own", "further_studies"),
+    ("3-D pictures", "the final states, damage in colour", None),
+]
+DRAWS = {"wallette": "one draw of the properties for the whole wallette",
+         "items": "one draw per unit and per joint",
+         "field": "a random field over the units and joints"}
+
+
+def report_spec(config):
+    """What the report's landing page says of this workflow: the study's
+    name, its wallette and test (from its scene with its rules), what each
+    variant draws, and the report's categories with what each holds
+    (those of the stages this config runs)."""
+    from ..specimen.scene import build_scene
+    st = study(config)
+    sc = build_scene(st.scene, settings=st.rules)
+    g = sc.geometry
+    brick = " x ".join(f"{1e3 * x:g}" for x in (g.unit_length, g.unit_height, g.unit_width))
+    test = {"bending": "four-point out-of-plane horizontal bending", "tension": "direct tension",
+            "triplet": "triplet shear"}[sc.loading.test]
+    variants = {n: DRAWS[v["draw"]] + (f" (correlation length {1e3 * v['correlation_length']:g} mm)"
+                                       if v["correlation_length"] else "") for n, v in st.variants.items()}
+    present = {"paper": bool(config["study"].get("paper"))} | {k: bool(config.get(k)) for _, _, k in CATEGORIES if k
+                                                              and k != "paper"}
+    present["further_studies"] = present["further_studies"] or bool(config.get("geometry_formats"))
+    return dict(study=st.name, scene=sc.name, test=test, precompression=st.sweeps_precompression,
+                wallette=f"{g.courses} courses of {g.units_per_course} units of {brick} mm in running bond with "
+                         f"{1e3 * g.joint_thickness:g} mm joints",
+                variants=variants, draws={n: v["draw"] for n, v in st.variants.items()},
+                inputs=[v.name for v in st.variables],
+                categories=[[name, what] for name, what, key in CATEGORIES if key is None or present[key]])
 
 
 def study_variants(config):
@@ -323,7 +371,7 @@ def planned_scenes(config):
     out = [("numerics", scene, numerics)]
     out += [(f"study levels ({level})", study(config).scene, effective(numerics, [level_override(config, level)]))
             for level in study_level_dirs(config)]
-    v = config["validation"]
+    v = config.get("validation") or {"cases": [], "precompression_mpa": []}
     out += [(f"validation.cases ({c['name']} at {sv} MPa)", scene, validation_overrides(config, c["name"], sv))
             for c in v["cases"] for sv in v["precompression_mpa"]]
     out += [(f"hard_cases ({run})", scene, hard_case_overrides(config, run)) for run in hard_case_jobs(config)]

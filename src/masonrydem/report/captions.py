@@ -117,9 +117,11 @@ def sampling_check(check, achieved, correlations):
                 cov_dev=100 * (check.cov_sample / check.cov_target - 1).abs().max())
 
 
-def landing(runs, stats, excluded, level, inputs):
+def landing(runs, stats, excluded, level, inputs, report):
     """The report's landing page (workflow.rst): what was run, how, and the
-    study's key table (mean P_max, COV, brick share per variant and level)."""
+    study's key table (mean P_max, COV, brick share per variant and level);
+    ``report``: pipeline.plan.report_spec (the study's name, wallette and
+    variants, the report's categories)."""
     rows = [(r.variant, f"{getattr(r, level.column):g}", f"{r.P_max_mean_kN:.2f}", f"{r.strength_mean_mpa:.3f}",
              _num(r.P_max_cov, ".3f"), f"{100 * r.brick_share:.0f}", str(r.count))
             for r in stats[stats["mode"] == "all"].itertuples()]
@@ -134,7 +136,17 @@ def landing(runs, stats, excluded, level, inputs):
         vals = runs[col].dropna().astype(str).unique() if col in runs else []
         return ", ".join(vals) if len(vals) else "not recorded (rows of an older format)"
 
-    return dict(total=len(runs), variants=runs.variant.nunique(), n_samples=runs["sample"].nunique(),
+    names = ", ".join(report["inputs"])
+    variants = "; ".join(f"{n}: {what}" for n, what in report["variants"].items())
+    links = "\n".join(f"- {_link(name)}: {what}." for name, what in report["categories"])
+    accuracy = any(name == "Accuracy" for name, _ in report["categories"])
+    return dict(study=report["study"], rule="=" * len(f"masonrydem: the study {report['study']}"),
+                scene=report["scene"], wallette=report["wallette"], test=report["test"],
+                under=" under vertical precompression" if report["precompression"] else "",
+                inputs=f"its {len(report['inputs'])} random input{'s' if len(report['inputs']) > 1 else ''} ({names})",
+                variant_list=variants, links=links,
+                accuracy=" (Accuracy_ compares them with finer settings)" if accuracy else "",
+                total=len(runs), variants=runs.variant.nunique(), n_samples=runs["sample"].nunique(),
                 n_levels=len(levels), level=level.name, levels=f"{', '.join(f'{x:g}' for x in levels)} {level.unit}".rstrip(),
                 blocks=one("blocks"),
                 cells=one("cells"), refine=one("subcontact_refine"), solver=one("solver_version"), excluded=excluded,
@@ -142,10 +154,21 @@ def landing(runs, stats, excluded, level, inputs):
                 table="\n".join([rule, line(head), rule, *map(line, rows), rule]))
 
 
-def statistics(runs, stats, corr, inc, level, inputs):
+FIELDS_NOTE = ("  A variant that draws per unit or joint has field means that hardly vary between its samples (each "
+               "field is itself a Latin Hypercube over the wallette's units or joints): its P_max follows the local "
+               "values, not the field means, and its correlations with them are close to nothing.")
+
+
+def _link(category):
+    """A report category as a link of the landing page's reStructuredText."""
+    return f"{category}_" if category.replace("_", "").isalnum() else f"`{category}`_"
+
+
+def statistics(runs, stats, corr, inc, level, inputs, report):
     """Captions of the statistics, correlations and increase tables (by
     template name); ``inc`` is analysis.increase from the lowest to the
-    highest level of ``runs``; ``inputs``: the random inputs' columns."""
+    highest level of ``runs``; ``inputs``: the random inputs' columns;
+    ``report``: pipeline.plan.report_spec (the landing page's)."""
     levels = sorted(runs[level.column].unique())
     n_corr = int(corr.loc[corr["mode"] == "all", "count"].max())
     noise = f"+-{A.correlation_band(n_corr):.2f} for n = {n_corr}" if n_corr > 2 else "undefined for so few runs"
@@ -168,11 +191,12 @@ def statistics(runs, stats, corr, inc, level, inputs):
         corr_lines.append(f"{r.variant}, {level.text(getattr(r, level.column))}: {top} ({vals[top]:+.2f}); "
                           + ", ".join(f"{n} {v:+.2f}" for n, v in vals.items()))
     return dict(
-        workflow=landing(runs, stats, len(bad), level, inputs),
+        workflow=landing(runs, stats, len(bad), level, inputs, report),
         statistics=dict(excluded=len(bad), total=len(runs), lines=_bullets(stat_lines),
                         excluded_detail=(" (" + ", ".join(f"{k}: {v}" for k, v in bad.status.value_counts().items())
                                          + ")") if len(bad) else ""),
-        correlations=dict(lines=_bullets(corr_lines), noise=noise,
+        correlations=dict(lines=_bullets(corr_lines), noise=noise, inputs=", ".join(inputs),
+                          fields=FIELDS_NOTE if any(d != "wallette" for d in report["draws"].values()) else "",
                           spreads="; ".join(spread(v) for v in sorted(runs.variant.unique()))),
         increase=dict(lines="; ".join(f"{r.variant} {r.mode} **{100 * r.increase:+.0f} %** "
                                       f"({_num(100 * r.increase_lo, '+.0f')} to {_num(100 * r.increase_hi, '+.0f')} %)"
@@ -212,7 +236,7 @@ def study_figures(runs, stats, corr, sv_scatter, level, inputs, variant):
         running_mean=dict(lines="; ".join(rm)),
         brick_share=dict(lines="; ".join(share)),
         correlation_vs_sigma=dict(lines="from the lowest to the highest level, " + "; ".join(trend)),
-        scatter_deviation=dict(sv=level.text(sv_scatter), level=level.name,
+        scatter_deviation=dict(sv=level.text(sv_scatter), level=level.name, variant=scatter_variant,
                                n=int(at["count"].iloc[0]) if len(at) else 0,
                                lines=", ".join(f"{n} {at[n].iloc[0]:+.2f}" for n in inputs) if len(at) else "none"),
         curves_by_mode=dict(lines="; ".join(drops)))
@@ -234,8 +258,9 @@ def study_pictures(picked, level):
     return dict(lines=_bullets(lines))
 
 
-def equations(rows):
-    """The prediction equations' rows (equations.prediction_equations)."""
+def equations(rows, terms, variant):
+    """The prediction equations' rows (equations.prediction_equations), of
+    the ``terms`` fitted on the runs of ``variant``."""
     lines = []
     for r in rows:
         if r["mode"] == "lower of two":
@@ -247,10 +272,10 @@ def equations(rows):
                          f"alpha {r['alpha']:.3g}")
         else:
             lines.append(f"{r['mode']} failure ({r['n']} runs): {r['equation']}")
-    return dict(lines=_bullets(lines))
+    return dict(lines=_bullets(lines), terms=", ".join(terms), variant=variant)
 
 
-def design_comparison(design, simulated, fitted, resid_sd, n_samples, inputs):
+def design_comparison(design, simulated, fitted, resid_sd, n_samples, inputs, variant):
     """The design comparison (validation.design_table) at the simulated
     levels (``simulated``: mean and std of the strength by sigma_v_mpa);
     ``fitted``: the modes with an equation; ``resid_sd``: the predictor's
@@ -258,14 +283,14 @@ def design_comparison(design, simulated, fitted, resid_sd, n_samples, inputs):
     ``inputs``: validation.design_inputs."""
     lines = []
     for sv in simulated.index:
-        at = {k: float(np.interp(sv, design.sigma_v_mpa, design[k])) for k in design.columns}
+        at = {k: float(np.interp(sv, design.iloc[:, 0], design[k])) for k in design.columns}
         lines.append(f"{sv:g} MPa: simulated **{simulated.loc[sv, 'mean']:.3f} +- "
                      f"{simulated.loc[sv, 'std']:.3f} MPa**, predicted **{at['prediction']:.3f} +- "
                      f"{at['band_sd']:.3f} MPa** at the mean properties, "
                      f"**{at['mean_over_samples']:.3f} MPa** on average over the samples; Lourenco-Gaetani stepped "
                      f"{at['lg_stepped']:.3f} / brick {at['lg_brick']:.3f} MPa; AS3700 stepped "
                      f"{at['as3700_stepped']:.3f} / line {at['as3700_line']:.3f} MPa")
-    return dict(f_tu=inputs["ft_units"], f_tj=inputs["ft_joints"], resid=resid_sd, n_samples=n_samples,
+    return dict(f_tu=inputs["ft_units"], f_tj=inputs["ft_joints"], resid=resid_sd, n_samples=n_samples, variant=variant,
                 l_o=1e3 * inputs["l_o"], h_b=1e3 * inputs["h_b"], c_ratio=inputs["c_ratio"], lines=_bullets(lines),
                 equations=("the joint and brick equations" if len(fitted) == 2 else
                            f"the {fitted[0]} equation alone (too few runs of the other mode)" if fitted
@@ -294,7 +319,9 @@ def paper_comparison(card):
     if mape in eq10.index:
         lines.append(f"the paper's Eq. 10 (lower of its two) on our runs: MAPE **{eq10[mape]:.1f} %**, "
                      f"bias **{eq10[bias]:+.1f} %**")
-    return dict(lines=_bullets(lines))
+    offsets = means.difference_pct
+    offsets = (f"{offsets.min():+.1f} to {offsets.max():+.1f} %" if len(offsets) else "(no level in common)")
+    return dict(lines=_bullets(lines), offsets=offsets)
 
 
 def modelform(table):

@@ -181,7 +181,7 @@ def design_comparison(design, simulated, path, variant):
     over the sampled properties, the Lourenco-Gaetani and AS3700 rules,
     beside the simulated strengths of ``variant`` (``simulated``: mean and
     std by sigma_v_mpa)."""
-    levels = design.sigma_v_mpa
+    levels = design.iloc[:, 0]
     pred, band = design.prediction, design.band_sd
     fig, ax = plt.subplots(figsize=(10, 4.5))
     ax.plot(levels, pred, "k-", lw=2, label="prediction at mean properties (lower of two)")

@@ -5,12 +5,26 @@ config/studies/willis.yaml).
 variable with its distribution in SI (quantities converted in the unit of
 the scene setting it drives), the correlations as a mapping of pairs, the
 variants and how they draw, the rules and the swept levels as scene
-settings.  Every reference is checked against the scene before anything
-is drawn: a variable's setting, a rule, the swept setting (the scene is
-validated with each variable at its mean and each level in turn), a
-correlation's variables and a regression feature.  Errors name the field
-as the study file writes it, prefixed by 'study.'.
+settings.  Every mistake is refused before anything is drawn, the field
+named as the study file writes it (prefixed by 'study.') with its value
+and, where one fits, a suggestion:
+
+- a key the schema does not know (did you mean the nearest one?), a
+  variable's setting that is no numeric setting of a scene (the nearest);
+- a dimensional number without its unit (a standard deviation, a bound, a
+  level, a rule and a correlation length included; 0 excepted);
+- a coefficient of variation outside (0, 1], bounds out of order, a
+  lognormal variable whose mean is not above 0;
+- a pair correlated twice, a variable correlated with itself, and
+  correlations that no joint distribution has (a matrix that is not
+  positive definite: the pairs that break it are named);
+- fewer samples than the analysis needs (MIN_SAMPLES);
+- what the scene refuses: the rules, each variable at its mean and each
+  swept level (the scene is validated with each), a correlation's
+  variables and a regression feature.
 """
+import difflib
+import re
 from dataclasses import dataclass, replace
 from importlib import resources
 
@@ -18,11 +32,11 @@ from jsonschema import Draft202012Validator
 
 from ..errors import InputError, check_finite
 from ..specimen.files import read_scene, read_yaml
-from ..specimen.quantities import column, shown, to_shown, to_si
+from ..specimen.quantities import column, is_plain, shown, to_shown, to_si
 from ..specimen.scene import PRECOMPRESSION, build_scene, setting_unit
 from .sampling import Variable
 from .settings import PER_ITEM
-from .terms import parse_term
+from .terms import MIN_SAMPLES, parse_term
 
 SCHEMA = read_yaml(resources.files(__package__).joinpath("study_schema.yaml").read_text())
 
@@ -104,23 +118,81 @@ def _validated(raw):
     errors = sorted(Draft202012Validator(SCHEMA).iter_errors(raw), key=lambda e: list(e.absolute_path))
     if errors:
         e = errors[0]
-        raise InputError(".".join(str(p) for p in e.absolute_path) or "study", e.message)
+        field = ".".join(str(p) for p in e.absolute_path) or "study"
+        if e.validator == "additionalProperties":
+            unknown = sorted(set(e.instance) - set(e.schema.get("properties", {})))
+            known = list(e.schema.get("properties", {}))
+            raise InputError(f"{field}.{unknown[0]}" if field != "study" else unknown[0],
+                             f"is not a key here{_nearest(unknown[0], known)} (the keys: {', '.join(known)})")
+        raise InputError(field, e.message)
     return raw
+
+
+def _nearest(word, words):
+    """': did you mean X?' for the nearest of ``words``, or ''."""
+    near = difflib.get_close_matches(word, words, n=1, cutoff=0.6)
+    return f": did you mean {near[0]!r}?" if near else ""
+
+
+def numeric_settings():
+    """Every numeric setting of a scene, by its dotted path (list items
+    without an index)."""
+    from ..specimen.scene import SCHEMA as SCENE
+
+    def walk(node, path):
+        if not isinstance(node, dict):
+            return
+        if node.get("type") == "number" or (node.get("type") == "array" and isinstance(node.get("items"), dict)
+                                            and node["items"].get("type") == "number"):
+            yield path
+        for key, sub in node.get("properties", {}).items():
+            yield from walk(sub, f"{path}.{key}" if path else key)
+    return list(walk(SCENE, ""))
+
+
+def _quantity(value, unit, field, written_unit=None):
+    """A study file's quantity in SI: a dimensional setting's value needs
+    its unit ('0.35 MPa'; 0 alone is 0 in any unit); ``written_unit``, the
+    unit the variable's mean is written in, the suggestion for a number
+    without one."""
+    if unit and not isinstance(value, str) and value != 0 or unit and isinstance(value, str) and is_plain(value) \
+            and float(value) != 0:
+        hint = f"{float(value):g} {written_unit}" if written_unit else f"{float(value):g} {shown(unit)[0]}"
+        raise InputError(field, f"{value!r} has no unit, and this setting is a quantity ({unit} in SI): write it "
+                                f"with its unit: did you mean {hint!r}?")
+    return to_si(value, unit, field)
+
+
+def _written_unit(text):
+    """The unit a quantity's text is written in ('0.35 MPa' -> 'MPa'), or None."""
+    if not isinstance(text, str) or is_plain(text):
+        return None
+    m = re.match(r"^\s*[-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?\s*(\S.*?)\s*$", text)
+    return m[1] if m else None
 
 
 def _unit(setting, field):
     unit = setting_unit(setting)
     if unit is None:
-        raise InputError(field, f"{setting!r} is not a numeric setting of a scene (scene_schema.yaml)")
+        raise InputError(field, f"{setting!r} is not a numeric setting of a scene (scene_schema.yaml)"
+                                + _nearest(setting, numeric_settings()))
     return unit
 
 
 def _variable(name, v):
     field = f"variables.{name}"
     unit = _unit(v["setting"], f"{field}.setting")
-    q = {k: to_si(v[k], unit, f"{field}.{k}") for k in ("mean", "sd") if k in v}
-    bounds = tuple(to_si(b, unit, f"{field}.bounds.{i}") for i, b in enumerate(v.get("bounds", ())))
+    written = _written_unit(v.get("mean"))
+    q = {k: _quantity(v[k], unit, f"{field}.{k}", written) for k in ("mean", "sd") if k in v}
+    bounds = tuple(_quantity(b, unit, f"{field}.bounds.{i}", written) for i, b in enumerate(v.get("bounds", ())))
     dist = v["distribution"]
+    if "cov" in v and not 0 < v["cov"] <= 1:
+        raise InputError(f"{field}.cov", f"{v['cov']!r} is not a coefficient of variation: it lies in (0, 1] (sd / "
+                                         f"mean; 0.3 is 30 %)")
+    if "sd" in q and not q["sd"] > 0:
+        raise InputError(f"{field}.sd", f"{v['sd']!r}: a standard deviation is above 0")
+    if dist == "lognormal" and "mean" in q and not q["mean"] > 0:
+        raise InputError(f"{field}.mean", f"{v['mean']!r}: a lognormal variable's mean is above 0")
     if dist in ("uniform", "truncated_normal") and not bounds:
         raise InputError(field, f"a {dist} distribution needs bounds: [min, max]")
     if bounds and not bounds[0] < bounds[1]:
@@ -142,7 +214,7 @@ def _variant(name, raw, variables):
         raise InputError(f"{field}.draw", f"draws per item, but {', '.join(missing)} has no 'per'")
     if (draw == "field") != ("correlation_length" in raw):
         raise InputError(f"{field}.correlation_length", "a field needs its correlation length, and only a field has one")
-    length = to_si(raw["correlation_length"], "m", f"{field}.correlation_length") if draw == "field" else None
+    length = _quantity(raw["correlation_length"], "m", f"{field}.correlation_length") if draw == "field" else None
     if length is not None and not length > 0:
         raise InputError(f"{field}.correlation_length", f"must be above 0, got {raw['correlation_length']!r}")
     return {"draw": draw, "correlation_length": length}
@@ -151,16 +223,12 @@ def _variant(name, raw, variables):
 def _typed(raw):
     variables = tuple(_variable(n, v) for n, v in raw["variables"].items())
     names = [v.name for v in variables]
-    correlations = {}
-    for i, c in enumerate(raw.get("correlations", [])):
-        for k, n in enumerate(c["between"]):
-            if n not in names:
-                raise InputError(f"correlations.{i}.between.{k}", f"{n!r} is not a variable ({', '.join(names)})")
-        correlations[tuple(c["between"])] = float(c["rho"])
+    correlations = _correlations(raw.get("correlations", []), names)
     variants = {n: _variant(n, v, variables) for n, v in raw["variants"].items()}
     sweep = raw["sweep"]
     unit = _unit(sweep["setting"], "sweep.setting")
-    levels = tuple(to_si(x, unit, f"sweep.levels.{i}") for i, x in enumerate(sweep["levels"]))
+    levels = tuple(_quantity(x, unit, f"sweep.levels.{i}") for i, x in enumerate(sweep["levels"]))
+    check_samples(raw["samples"], "samples")
     sweep_name = sweep.get("name", sweep["setting"].rsplit(".", 1)[-1])
     if sweep_name in names:
         raise InputError("sweep.name", f"{sweep_name!r} is a variable's name too: name the sweep otherwise")
@@ -175,6 +243,62 @@ def _typed(raw):
                   sweep_name=sweep_name, units=units, regression_variant=_regression_variant(raw, variants))
     _check_against_scene(study)
     return study
+
+
+def check_samples(n, field):
+    """Refuses fewer samples than the analysis needs (MIN_SAMPLES)."""
+    if n < MIN_SAMPLES:
+        raise InputError(field, f"{n} samples: the analysis needs at least {MIN_SAMPLES} (each failure mode's "
+                                "equation is fitted with nested 5-fold cross-validation over whole samples)")
+
+
+def _correlations(items, names):
+    """The correlations of a study file: (name, name) -> rho, each pair once,
+    no variable with itself, and a matrix that is positive definite."""
+    import numpy as np
+    out, seen = {}, {}
+    for i, c in enumerate(items):
+        for k, n in enumerate(c["between"]):
+            if n not in names:
+                raise InputError(f"correlations.{i}.between.{k}", f"{n!r} is not a variable{_nearest(n, names)} "
+                                                                  f"({', '.join(names)})")
+        a, b = c["between"]
+        if a == b:
+            raise InputError(f"correlations.{i}.between", f"{a} with itself: a variable's correlation with itself is "
+                                                          "1; name two variables")
+        pair = frozenset((a, b))
+        if pair in seen:
+            raise InputError(f"correlations.{i}", f"{a} and {b} are correlated twice (correlations.{seen[pair]} "
+                                                  f"too): give each pair once")
+        seen[pair] = i
+        out[(a, b)] = float(c["rho"])
+    matrix = np.eye(len(names))
+    for (a, b), rho in out.items():
+        matrix[names.index(a), names.index(b)] = matrix[names.index(b), names.index(a)] = rho
+    if out and np.linalg.eigvalsh(matrix)[0] <= 1e-10:
+        raise InputError("correlations", "no joint distribution has these correlations (their matrix is not "
+                                         f"positive definite): {_breaking(out, names)}")
+    return out
+
+
+def _breaking(correlations, names):
+    """The pairs whose correlation makes the matrix not positive definite:
+    those without which it is, else those among the variables that weigh
+    most in its direction of a non-positive eigenvalue."""
+    import numpy as np
+
+    def smallest(pairs):
+        m = np.eye(len(names))
+        for (a, b), rho in pairs.items():
+            m[names.index(a), names.index(b)] = m[names.index(b), names.index(a)] = rho
+        return np.linalg.eigh(m)
+
+    alone = [p for p in correlations if smallest({q: r for q, r in correlations.items() if q != p})[0][0] > 1e-10]
+    if not alone:
+        vector = np.abs(smallest(correlations)[1][:, 0])
+        top = {names[k] for k in np.argsort(-vector)[:3]}
+        alone = [p for p in correlations if set(p) <= top]
+    return "; ".join(f"{a}-{b} {correlations[(a, b)]:g}" for a, b in alone) + " (lower one of them, or drop it)"
 
 
 def _regression_variant(raw, variants):
@@ -198,7 +322,7 @@ def _rule_si(key, value):
     plain numbers, and never loads the units library."""
     if isinstance(value, dict):
         return {k: _rule_si(f"{key}.{k}", v) for k, v in value.items()}
-    return to_si(value, _unit(key, f"rules.{key}"), f"rules.{key}") if setting_unit(key) is not None else value
+    return _quantity(value, _unit(key, f"rules.{key}"), f"rules.{key}") if setting_unit(key) is not None else value
 
 
 def _check_against_scene(study):
@@ -225,7 +349,7 @@ def with_levels(study, levels, field):
     SI), each converted and checked by the scene as the file's are;
     InputError names ``field``.N."""
     unit = _unit(study.sweep_setting, field)
-    si = tuple(to_si(x, unit, f"{field}.{i}") for i, x in enumerate(levels))
+    si = tuple(_quantity(x, unit, f"{field}.{i}") for i, x in enumerate(levels))
     _check_levels(study, read_scene(study.scene), si, field, lambda e: e.reason)
     return replace(study, levels=si)
 

@@ -5,6 +5,11 @@ shows it in: 'f_tu', 'f_tu^2', 'f_tj*sigma_v', 'f_tj*(L + t)/(H + t)'."""
 import ast
 import operator
 
+# the fewest samples the equations are fitted on: their nested 5-fold
+# cross-validation over whole samples gives each inner fit 5 groups of the
+# outer fold's 4/5, so at least 7 samples
+MIN_SAMPLES = 7
+
 _OPERATORS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
               ast.Pow: operator.pow, ast.USub: operator.neg, ast.UAdd: operator.pos}
 
