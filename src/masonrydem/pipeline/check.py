@@ -105,12 +105,16 @@ def study_summary(study):
     lines += [f"  sweep {study.sweep_name} ({study.sweep_setting}): "
               + ", ".join(_shown(x, unit) for x in study.levels),
               f"  regression: {', '.join(study.features)} on the variant {study.regression_variant or '(none)'}",
-              f"  runs: {study.samples} samples x {len(study.variants)} variant(s) x {len(study.levels)} levels = "
+              f"  runs: {study.samples} samples x {_count(len(study.variants), 'variant')} x {len(study.levels)} levels = "
               f"{runs:,}; each drive at most {drive:,} steps, {_duration(drive * per_step)} on one core (the scene's "
               "estimate at the mean properties), before a precompression's own steps; a run that passes its peak "
               "stops sooner",
               "  nothing was drawn or run"]
     return lines
+
+
+def _count(n, word):
+    return f"{n} {word}" + ("" if n == 1 else "s")
 
 
 def _shown(x, unit):
