@@ -8,6 +8,7 @@ from snakemake.utils import validate
 import masonrydem
 import masonrydem.cli
 from masonrydem.pipeline import plan
+from masonrydem.pipeline.check import check_config
 from masonrydem.pipeline.plan import reference_checks, reference_runs
 from masonrydem.pipeline.snakemake_state import stop_rate_limiter_timers
 
@@ -21,7 +22,7 @@ validate(config, "../../config/schema.yaml", set_default=True)
 # refused at planning, naming the setting as masonrydem check does (the
 # study file's mistakes, NaN or infinite values, overrides the scene refuses)
 try:
-    plan.check(config)
+    check_config(config)
 except masonrydem.InputError as e:
     print(f"masonrydem: invalid input: {e}", file=sys.stderr)
     sys.exit(2)
