@@ -21,7 +21,7 @@ paper's model), its figures in brick failure, and
                           --samples ...`) on a small wallette: its own
                           start-up (interpreter start to the simulation's
                           start) and its wall time
-  levers                  issue 36's levers, each on top of those before
+  levers                  the speed levers of docs/dev/performance-log.md, each on top of those before
                           it: the mean wall time and steps of 12 study
                           runs (6 committed samples at 0 and 0.5 MPa), the
                           time against 'before' and the change of P_max
@@ -197,7 +197,7 @@ def job_times(tiny):
     return best
 
 
-# issue 36's levers, each on top of the ones before it (a study run as the
+# the speed levers (docs/dev/performance-log.md), each on top of the ones before it (a study run as the
 # workflow runs it, in one process: committed samples, the study's numerics)
 PAST_PEAK = "loading.bending.past_peak={drop: 0.05, after: 1.0e-4, at_most: 2.0e-4}"
 LEVERS = {"before": ["numerics.cells=[6, 3, 2]"],

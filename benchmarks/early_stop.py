@@ -1,4 +1,4 @@
-"""Issue 36, lever 'stop once the peak is certain': the committed study's
+"""The lever 'stop once the peak is certain': the committed study's
 runs again with ``loading.bending.past_peak``, against their committed
 rows (results/study/runs.parquet, same solver arithmetic).
 

@@ -1,4 +1,4 @@
-"""The study from empty in one sitting, timed (issue 23).
+"""The study from empty in one go, timed.
 
     .venv/bin/python benchmarks/study_time.py [--cores 2]
 
@@ -8,7 +8,7 @@ and runs: the samples are drawn again and every simulation reruns), runs
 collection, statistics, figures, regression, pictures) and writes
 results/study/timing.csv, one row:
 
-  wall_s           wall clock of the sitting, Snakemake's start to its exit
+  wall_s           wall clock, Snakemake's start to its exit
   runs             simulations in results/study/runs.parquet
   cores            the cores given to Snakemake
   mean_run_s       mean wall time of a run inside the solver (its row's

@@ -1,4 +1,4 @@
-"""Issue 24: a corpus of malformed inputs, every one refused before any
+"""A corpus of malformed inputs, every one refused before any
 computation with exit code 2 and a message naming the setting as the user
 wrote it; a run that raises still writes its row (exit 3), a run that ends
 not ok exits 1; the workflow's config is refused at planning."""

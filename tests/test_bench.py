@@ -1,4 +1,4 @@
-"""`make bench` runs (issue 21: it had broken unnoticed): benchmarks/bench.py
+"""`make bench` runs, so that it cannot break unnoticed: benchmarks/bench.py
 on a tiny wallette prints its JSON line, with the model's own counts.  Its
 timings are figures to read, not to assert (speed is measured in the
 benchmark, never in a test)."""

@@ -1,4 +1,4 @@
-"""Issue 35: the bending test's section comes from the wallette as built,
+"""The bending test's section comes from the wallette as built,
 so that a scene with other bricks or courses gets its own strength."""
 import pytest
 

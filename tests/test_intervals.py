@@ -1,5 +1,5 @@
 """Bootstrap confidence intervals of the study's statistics and equations,
-and the scorecard against the source paper (issue 33), each against a
+and the scorecard against the source paper, each against a
 reason that does not come from the code: the normal-theory interval of a
 mean, the coverage of a known distribution's mean, a second implementation
 of the statistics, runs built from a known equation."""

@@ -1,4 +1,4 @@
-"""The model-form options (issue 33; config 'modelform'): the joint laws'
+"""The model-form options (config 'modelform'): the joint laws'
 variants, residual friction, strips that turn, strips with friction, the
 precompression platen, and the closed-form 3x3 algebra of the mesh.  Each
 test states its closed form and tolerance."""

@@ -137,7 +137,7 @@ def test_modelform_runs_and_overrides():
 
 def test_the_projects_config_plans_its_modelform_study():
     """config/config.yaml: at least 10 assumptions x 3 levels x 2 modes
-    (issue 33), every option's scene accepted at planning."""
+    (config 'modelform'), every option's scene accepted at planning."""
     with open("config/config.yaml") as f:
         config = yaml.safe_load(f)
     m = config["modelform"]

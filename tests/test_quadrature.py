@@ -1,4 +1,4 @@
-"""Where loads act and how joints are integrated (issue 22): the strips'
+"""Where loads act and how joints are integrated: the strips'
 resultants on their configured lines whatever the mesh, joints exact in
 bending and torsion for a linear traction field, a cell (not a node
 plane) on the plane where a crack runs through a unit, and peaks judged

@@ -1,4 +1,4 @@
-"""Rigid blocks (issue 7): six degrees of freedom per block, sub-contacts on
+"""Rigid blocks: six degrees of freedom per block, sub-contacts on
 the block faces, large rotations; closed forms of rigid-block statics and
 dynamics.  Each test states its formula and tolerance."""
 import math

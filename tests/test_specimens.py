@@ -1,4 +1,4 @@
-"""Further standard specimens as scenes (issue 7): direct tension parallel
+"""Further standard specimens as scenes: direct tension parallel
 to the bed joints and the triplet shear test, against closed forms."""
 import math
 

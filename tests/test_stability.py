@@ -1,4 +1,4 @@
-"""Hard cases stay numerically stable (issue 6): the critical step with
+"""Hard cases stay numerically stable: the critical step with
 damping, energy, damping, and the wallette at the tails of the study's
 distributions, at high precompression, with dry joints and with tiny
 fracture energies.  Wallette cases are those of config/config.yaml

@@ -1,4 +1,4 @@
-"""Issue 36: the stop rule 'past_peak' (stops.stop_rule), which ends the
+"""The stop rule 'past_peak' (stops.stop_rule), which ends the
 test stage as soon as its peak is certain, on rows made by hand; and the
 scene setting that asks for it."""
 import numpy as np

@@ -1,4 +1,4 @@
-"""Issue 35: quantities with units in a scene and on the command line, and
+"""Quantities with units in a scene and on the command line, and
 the plausible ranges of masonry.  A corpus of values as users write them:
 in the units engineers think in (converted to SI, to the last digit), as
 plain numbers meant in those units (refused, naming the unit meant), and

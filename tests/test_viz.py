@@ -1,6 +1,6 @@
 """The 3-D damage picture tells brick cracking from joint cracking: the
 units' crack interfaces are drawn in the units' reds, the mortar joints in
-blues, and nothing undamaged is coloured (issue 34)."""
+blues, and nothing undamaged is coloured."""
 import numpy as np
 import pytest
 

@@ -1,4 +1,4 @@
-# What accuracy costs in time (issue 5):  snakemake --cores 2 accuracy
+# What accuracy costs in time:  snakemake --cores 2 accuracy
 
 
 rule accuracy_run:

@@ -113,7 +113,7 @@ def get_validation_outputs():
             *(f"{R}/validation/damage_{run}.png" for run in config["validation"]["pictures"])]
 
 
-# --- the model-form study (issue 33) -------------------------------------------
+# --- the model-form study ------------------------------------------------------
 def get_modelform_results():
     return [f"{R}/modelform/runs/{case}/sv{sv}/{option}/result.parquet"
             for case, sv, option in plan.modelform_runs(config)]
@@ -244,7 +244,7 @@ def get_study_outputs():
             *(f"{R}/report/tables/{name}.html" for name in TABLES)]
 
 
-# --- the accuracy study (issue 5) ---------------------------------------------
+# --- the accuracy study -------------------------------------------------------
 def get_accuracy_results(runs):
     return [f"{R}/accuracy/runs/{case}/{setting}/result.parquet" for case, setting in runs]
 

@@ -1,4 +1,4 @@
-# The model-form study (issue 33):  snakemake --cores 2 modelform
+# The model-form study:  snakemake --cores 2 modelform
 # Each modelling assumption of config 'modelform' varied one at a time on
 # the mean-property wallette, in joint and brick failure, at three levels:
 # how far P_max and the failure mode move (a tornado chart per level and mode).

@@ -1,4 +1,4 @@
-# Reduced models of the wallette (issue 7):  snakemake --cores 2 reduced
+# Reduced models of the wallette:  snakemake --cores 2 reduced
 # Each joint-dominated case with rigid units, elastic units and the full
 # elasto-plastic model, at the study's numerics: how far P_max moves, how
 # much faster it runs.

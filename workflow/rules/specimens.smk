@@ -1,4 +1,4 @@
-# Further standard masonry specimens as scenes (issue 7): direct tension
+# Further standard masonry specimens as scenes: direct tension
 # parallel to the bed joints and the triplet shear test.
 #   snakemake --cores 2 specimens
 

@@ -3,7 +3,7 @@ wildcard_constraints:
 
 
 rule hard_case_run:
-    """One hard case (issue 6) at the study's numerics."""
+    """One hard case at the study's numerics."""
     input:
         scene=ancient(config["scene"]),  # by its content: params.scene
     output:

@@ -35,10 +35,10 @@ def validation_overrides(config, case, sv):
     return effective(config["numerics"], _by_name(config["validation"]["cases"])[case], [pressure(sv)])
 
 
-# --- hard cases (issue 6) ---------------------------------------------------
+# --- hard cases ---------------------------------------------------------------
 def hard_case_jobs(config):
     """Run id -> scene overrides (after config 'numerics') of the hard cases
-    (config 'hard_cases', issue 6) and of their half-rate reruns
+    (config 'hard_cases') and of their half-rate reruns
     ('<name>_half_rate', overrides config 'half_rate')."""
     jobs = {}
     for c in config.get("hard_cases", []):
@@ -58,7 +58,7 @@ def hard_case_overrides(config, run):
     return effective(config["numerics"], hard_case_jobs(config)[run])
 
 
-# --- reduced models (issue 7) ---------------------------------------------
+# --- reduced models ---------------------------------------------------------
 def reduced_runs(config):
     """(case, model) of every reduced-model run, case by case."""
     r = config.get("reduced")
@@ -70,7 +70,7 @@ def reduced_overrides(config, case, model):
     return effective(config["numerics"], _by_name(r["cases"])[case], r["models"][model])
 
 
-# --- the model-form study (issue 33) ---------------------------------------------
+# --- the model-form study -------------------------------------------------------
 def modelform_options(assumptions):
     """The options of config 'modelform''s ``assumptions`` by run name:
     '<assumption>_<k>' (k = 1, 2, ...) -> (assumption, option), and
@@ -102,7 +102,7 @@ def modelform_overrides(config, case, sv, option):
     return effective(config["numerics"], _by_name(m["cases"])[case], [pressure(sv)], opt["overrides"] if opt else [])
 
 
-# --- further specimens (issue 7) --------------------------------------------
+# --- further specimens ------------------------------------------------------
 def specimen_cases(config):
     """Case -> {name, scene, overrides} of the further specimens."""
     return {c["name"]: c for c in config.get("specimens", [])}

@@ -8,7 +8,7 @@ sub-contact forces), ``step`` (the time step and its entry point).
 
 numba's on-disk cache keys a compiled function on its own source file
 only, so an edit in another module that it calls would go unnoticed and a
-stale kernel would run (numba issue 1833).  The cache locators below key
+stale kernel would run (numba's GitHub issues/1833).  The cache locators below key
 every function of this package on the contents of all of its modules
 instead: an edit to any of them recompiles every kernel.
 """
