@@ -19,14 +19,14 @@ $(STAMP): pyproject.toml | $(BIN)/python
 # results/), its report, then run by run against the committed tables
 # (tools/compare_results.py; exit status 1 when a run differs).  Snakemake
 # resumes an interrupted reproduction; rm -rf reproduction to start afresh.
-# ACCURACY=1 reruns the accuracy study too (about 2 to 3.5 more hours); otherwise
+# ACCURACY=1 reruns the accuracy study too (hours more: README); otherwise
 # its committed summaries are copied in for the report.
 REPRO := reproduction/results
 ACCURACY ?= 0
 reproduce: $(STAMP)
 	@echo "make reproduce: validation, the 1000-run study, hard cases, reduced models, specimens and the"
-	@echo "model-form study, rerun into $(REPRO) (about 30 to 50 minutes on two cores from a fresh"
-	@echo "clone: README), then $(REPRO)/report.zip and a run-by-run comparison with results/."
+	@echo "model-form study, rerun into $(REPRO) (its time on two cores: README), then"
+	@echo "$(REPRO)/report.zip and a run-by-run comparison with results/."
 	@$(BIN)/snakemake all modelform $(if $(filter 1,$(ACCURACY)),accuracy) --config results=$(REPRO) -n --quiet rules
 	$(BIN)/snakemake --cores 2 all modelform $(if $(filter 1,$(ACCURACY)),accuracy) --config results=$(REPRO)
 ifneq ($(ACCURACY),1)
