@@ -1,4 +1,4 @@
-# Reduced models of the wallette (issue 7):  snakemake --cores 2 reduced
+# Reduced models of the wallette:  snakemake --cores 2 reduced
 # Each joint-dominated case with rigid units, elastic units and the full
 # elasto-plastic model, at the study's numerics: how far P_max moves, how
 # much faster it runs.
@@ -37,7 +37,7 @@ rule reduced:
         scene=config["scene"],
         template=get_template("reduced"),
     output:
-        table=report(f"{R}/reduced/summary.csv", caption=get_caption("reduced"), category="Reduced models"),
+        table=f"{R}/reduced/summary.csv",
         caption=get_caption_file("reduced"),
     params:
         code=get_code("reduced"),

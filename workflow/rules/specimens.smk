@@ -1,4 +1,4 @@
-# Further standard masonry specimens as scenes (issue 7): direct tension
+# Further standard masonry specimens as scenes: direct tension
 # parallel to the bed joints and the triplet shear test.
 #   snakemake --cores 2 specimens
 
@@ -33,8 +33,8 @@ rule specimens:
         scenes=[c["scene"] for c in plan.specimen_cases(config).values()],
         template=get_template("specimens"),
     output:
-        table=report(f"{R}/specimens/summary.csv", caption=get_caption("specimens"), category="Specimens"),
-        figure=report(f"{R}/specimens/response.png", caption=get_caption("specimens"), category="Specimens"),
+        table=f"{R}/specimens/summary.csv",
+        figure=item(f"{R}/specimens/response.png", "specimens", "Specimens", "Load against displacement"),
         caption=get_caption_file("specimens"),
     params:
         code=get_code("specimens"),

@@ -1,4 +1,4 @@
-"""The hard-cases table (issue 6) and its caption."""
+"""The hard-cases table and its caption."""
 import sys
 
 sm = snakemake  # noqa: F821

@@ -1,4 +1,4 @@
-"""The reduced models' table (issue 7) and its caption."""
+"""The reduced models' table and its caption."""
 import sys
 
 sm = snakemake  # noqa: F821

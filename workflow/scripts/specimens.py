@@ -1,4 +1,4 @@
-"""The further specimens' table, figure and caption (issue 7)."""
+"""The further specimens' table, figure and caption."""
 import sys
 
 sm = snakemake  # noqa: F821
