@@ -173,7 +173,7 @@ def _views(report, tall_key):
     """Views to screenshot: the landing page, each category, the run times,
     the tall figure scrolled to its top."""
     cats = json.loads(re.search(r"var categories = (\{.*?\});\n", report.read_text(), re.S)[1])
-    views = {"landing": ""}
+    views = {"landing": "", "landing_end": "document.querySelectorAll('.overflow-auto').forEach(b => b.scrollTop = b.scrollHeight);"}
     views |= {f"category_{re.sub('[^a-z0-9]+', '_', c.lower())}": f"app.showCategory({json.dumps(c)});" for c in cats}
     views["runtimes"] = "app.setView({content: 'stats'});"
     views["tall_figure"] = (f"app.setView({{content: 'img', contentPath: results[{json.dumps(tall_key)}].data_uri, "
@@ -205,13 +205,14 @@ def _table_page(report, name):
 def test_the_tables_show_every_row_of_their_csv_within_the_window(report, name):
     """A table page holds every row of its CSV (as a row, or as a column
     where the page transposed a wide table), and at 1280 px its widest row
-    fits the window, so no column is out of sight."""
+    fits the window, so no column is out of sight (the hard cases' table,
+    of 17 columns and 22 rows, scrolls beside its key columns)."""
     csv = {"hard_cases": "stability/hard_cases.csv", "reduced": "reduced/summary.csv",
            "accuracy_subsample": "accuracy/subsample.csv"}.get(name, f"study/{name}.csv")
     table = pd.read_csv(Path("results") / csv)
     page = _table_page(report, name)
     rows, cells = table_shape(page.read_text())
-    transposed = "transposed" in page.read_text()
+    transposed = re.search(r"<table[^>]*transposed", page.read_text()) is not None
     assert (cells - 1 if transposed else rows) == len(table), ((rows, cells), table.shape)
     probed = _with(page, f"probed_{name}.html", """<script>window.addEventListener("load", () => {
       const pre = document.createElement("pre"); pre.id = "probe";
@@ -220,5 +221,5 @@ def test_the_tables_show_every_row_of_their_csv_within_the_window(report, name):
       document.body.appendChild(pre); });</script>""")
     dom = _chromium(probed, SIZES[0], "--dump-dom").stdout
     right = float(re.search(r'<pre id="probe">(.*?)</pre>', dom, re.S)[1])
-    # the report shows a page beside its navigation (up to a third of the window)
-    assert right <= SIZES[0][0] * 2 / 3 or name == "hard_cases", right
+    # the window's width (the report's navigation beside it can be hidden)
+    assert right <= SIZES[0][0] or name == "hard_cases", right

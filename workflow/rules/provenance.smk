@@ -35,7 +35,7 @@ from types import SimpleNamespace
 
 from masonrydem.pipeline.fingerprint import code_fingerprint
 from masonrydem.pipeline.snakemake_state import (building_report, delete_record, read_record, record_path,
-                                                 record_times_error, write_record)
+                                                 record_times_error, recorded_paths, write_record)
 
 PROVENANCE = f"{R}/provenance.json"
 # the rules whose outputs are one run each: not committed, so not recorded
@@ -144,7 +144,7 @@ def check_record_times():
     next run puts it back); a record whose times are impossible refuses
     the report, naming its output."""
     unknown, wrong = [], []
-    for path in sorted(p for p in Path(R).rglob("*") if p.is_file()):
+    for path in sorted(p for p in recorded_paths() if p.startswith(f"{R}/")):
         record = read_record(path)
         if record is None or record.get("incomplete"):
             continue

@@ -190,8 +190,8 @@ def figure(table, path, level):
 
 
 def _symbol(name):
-    """An input's name as a symbol: f_tj as $f_{tj}$, phi_j as $\\phi_{j}$."""
-    head, _, sub = name.partition("_")
+    """An input's column as a symbol: f_tj_mpa as $f_{tj}$, phi_j_deg as $\\phi_{j}$."""
+    head, sub = (name.split("_") + [""])[:2]
     head = f"\\{head}" if head in ("phi", "sigma") else head
     return f"${head}_{{{sub}}}$" if sub else name
 

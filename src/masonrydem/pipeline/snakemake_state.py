@@ -46,6 +46,15 @@ def write_record(path, record, root=METADATA):
     where.write_text(json.dumps(record))
 
 
+def recorded_paths(root=METADATA):
+    """The outputs Snakemake holds a record of (their paths as ``record_path``
+    encodes them)."""
+    from base64 import urlsafe_b64decode
+    for where in Path(root).rglob("*") if Path(root).is_dir() else ():
+        if where.is_file():
+            yield urlsafe_b64decode("".join(part.lstrip("@") for part in where.relative_to(root).parts)).decode()
+
+
 def delete_record(path, root=METADATA):
     """Removes the record of ``path``, if there is one."""
     record_path(path, root).unlink(missing_ok=True)

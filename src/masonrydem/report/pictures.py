@@ -125,7 +125,7 @@ def picture_damage(state, path, title="", magnify=None, window=(1600, 1000), rig
     p = pv.Plotter(off_screen=True, window_size=window)
     # a bar tall enough that its title (above) and tick labels (below) keep apart
     bar = dict(vertical=False, position_y=0.02, width=0.36, height=0.12, title_font_size=16, label_font_size=13,
-               n_labels=5, fmt="%.1f")
+               n_labels=6, fmt="%.1f")
     p.add_mesh(zones, scalars="damage", cmap=UNIT_CMAP, clim=(0, 1),
                scalar_bar_args=dict(title="unit cracking: cell damage, crack interface D", position_x=0.06, **bar))
     edges = zones.extract_surface(algorithm="dataset_surface").extract_feature_edges(

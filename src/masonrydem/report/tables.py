@@ -63,7 +63,9 @@ def _cell(x):
         return str(x)
     if isinstance(x, (float, np.floating)):
         return "" if np.isnan(x) else f"{x:.4g}"
-    return "" if pd.isna(x) else escape(str(x))
+    if pd.isna(x):
+        return ""
+    return escape(str(x)) if len(str(x)) <= 40 else f'<span class="long">{escape(str(x))}</span>'    # a sentence wraps
 
 
 def readable(table):
@@ -102,7 +104,7 @@ def html_page(tables, title):
         parts.append((f"<h4>{escape(heading)}</h4>\n" if heading else "") + body)
     style = ("body{font:14px sans-serif;margin:8px} table{border-collapse:collapse;margin-bottom:1.5em} "
              "th,td{padding:3px 8px;text-align:right;border-bottom:1px solid #ddd;vertical-align:top} "
-             "td{max-width:32em} thead th{position:sticky;top:0;background:#f4f4f4} "
+             "td{white-space:nowrap} .long{white-space:normal;display:inline-block;min-width:16em;text-align:left} thead th{position:sticky;top:0;background:#f4f4f4} "
              "table.transposed tbody th{position:sticky;left:0;background:#f4f4f4;text-align:left} "
              "tr:hover td{background:#fafae0}")
     return (f'<!DOCTYPE html>\n<html><head><meta charset="utf-8"><title>{escape(title)}</title>'
