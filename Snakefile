@@ -18,8 +18,10 @@ include: "workflow/rules/modelform.smk"
 
 
 # the saved records put back before Snakemake plans, once every rule is
-# known (workflow/rules/provenance.smk)
+# known; for the report, their run times checked (workflow/rules/provenance.smk)
 restore_provenance()
+if building_report():
+    check_record_times()
 
 
 # the report's landing page: what was run, how, the key table, where to

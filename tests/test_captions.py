@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 
 from masonrydem.analysis import accuracy, statistics as analysis, validation
-from masonrydem.report import captions, figures
+from masonrydem.report import captions, figures, landing
 from masonrydem.specimen.scene import build_scene
 from masonrydem.study.sampling import sampling_check
 
@@ -143,10 +143,12 @@ def test_statistics_captions(level, inputs):
     runs = _runs()
     st, corr, inc = analysis.study_tables(runs, 200, 0, inputs, level)
     values = captions.statistics(runs, st, corr, inc, level, inputs, SPEC)
-    landing = (REPORT / "workflow.rst").read_text().format(**values["workflow"])     # (its CSS keeps its braces)
-    assert landing.startswith("masonrydem: the study demo\n==========================\n")
-    assert "- Study_: the statistics.\n- Prediction_: the equations.\n- `3-D pictures`_: states." in landing
-    assert "Accuracy_" not in landing and "spatial" not in landing.replace("nonspatial", "")
+    page = landing.landing(runs, st, int((~runs.ok).sum()), level, SPEC)
+    landing_text = (REPORT / "workflow.rst").read_text().format(**page)
+    assert "No source paper is compared" in landing_text
+    assert landing_text.startswith("masonrydem: the study demo\n==========================\n")
+    assert "- Study_: the statistics.\n- Prediction_: the equations.\n- `3-D pictures`_: states." in landing_text
+    assert "Accuracy_" not in landing_text and "spatial" not in landing_text.replace("nonspatial", "")
     assert "none" not in values["correlations"]["fields"] and values["correlations"]["fields"] == ""
     text = fill("statistics", values["statistics"])
     assert "**2 of 10 runs excluded** (step_limit: 2)" in text
@@ -187,11 +189,11 @@ def test_study_figures_captions(level, inputs):
 def test_study_pictures_pick_the_run_nearest_the_median_where_the_mode_is_most_frequent(level):
     runs = _runs()
     runs.loc[(runs.sigma_v_mpa == 0.5) & (runs["sample"] == 0), "failure_mode"] = "brick"
-    pick, at = figures.typical_run(runs, "nonspatial", "joint", level)
+    pick, at = captions.typical_run(runs, "nonspatial", "joint", level)
     assert pick["sample"] == 1 and pick.sigma_v_mpa == 0.0 and len(at) == 3      # 3 joint runs at 0, 2 at 0.5
-    bpick, bat = figures.typical_run(runs, "nonspatial", "brick", level)
+    bpick, bat = captions.typical_run(runs, "nonspatial", "brick", level)
     assert bpick.sigma_v_mpa == 0.5 and len(bat) == 2
-    assert figures.typical_run(runs, "spatial", "joint", level) == (None, None)
+    assert captions.typical_run(runs, "spatial", "joint", level) == (None, None)
     text = fill("study_pictures", captions.study_pictures([("nonspatial", "joint", pick, at),
                                                             ("spatial", "joint", None, None)], level))
     assert ("- nonspatial, joint failure: sample 1 at 0 MPa (the level with most joint failures, 3 of them, median "

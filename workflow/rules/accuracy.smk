@@ -89,10 +89,9 @@ rule accuracy_summary:
         references=f"{R}/accuracy/references.csv",
         templates=[get_template("accuracy_convergence"), get_template("accuracy_choice")],
     output:
-        runs=report(f"{R}/accuracy/runs.csv", caption="../report/accuracy_runs.rst", category="Accuracy"),
-        convergence=report(f"{R}/accuracy/convergence.csv", caption=get_caption("accuracy_convergence"),
-                           category="Accuracy"),
-        choice=report(f"{R}/accuracy/choice.csv", caption=get_caption("accuracy_choice"), category="Accuracy"),
+        runs=f"{R}/accuracy/runs.csv",
+        convergence=f"{R}/accuracy/convergence.csv",
+        choice=f"{R}/accuracy/choice.csv",
         captions=[get_caption_file("accuracy_convergence"), get_caption_file("accuracy_choice")],
     params:
         code=get_code("accuracy_summary"),
@@ -124,7 +123,7 @@ rule accuracy_scaling:
         runs=f"{R}/accuracy/runs.csv",
         template=get_template("accuracy_scaling"),
     output:
-        table=report(f"{R}/accuracy/scaling.csv", caption=get_caption("accuracy_scaling"), category="Accuracy"),
+        table=f"{R}/accuracy/scaling.csv",
         caption=get_caption_file("accuracy_scaling"),
     params:
         code=get_code("accuracy_scaling"),
@@ -148,8 +147,8 @@ rule accuracy_figures:
         choice=f"{R}/accuracy/choice.csv",
         scaling=f"{R}/accuracy/scaling.csv",
     output:
-        pareto=report(f"{R}/accuracy/pareto.png", caption=get_caption("accuracy_choice"), category="Accuracy"),
-        scaling=report(f"{R}/accuracy/scaling.png", caption=get_caption("accuracy_scaling"), category="Accuracy"),
+        pareto=item(f"{R}/accuracy/pareto.png", "accuracy_choice", "Accuracy", "Error against run time"),
+        scaling=item(f"{R}/accuracy/scaling.png", "accuracy_scaling", "Accuracy", "Run time against wallette size"),
     params:
         code=get_code("accuracy_figures"),
         tolerance=config.get("accuracy", {}).get("tolerance"),
@@ -168,9 +167,9 @@ rule accuracy_subsample:
         fine=get_subsample_runs("fine"),
         template=get_template("accuracy_subsample"),
     output:
-        table=report(f"{R}/accuracy/subsample.csv", caption=get_caption("accuracy_subsample"), category="Accuracy"),
-        figure=report(f"{R}/accuracy/subsample.png", caption=get_caption("accuracy_subsample"),
-                      category="Accuracy"),
+        table=f"{R}/accuracy/subsample.csv",
+        figure=item(f"{R}/accuracy/subsample.png", "accuracy_subsample", "Accuracy",
+                    "Study samples at the default and fine settings"),
         caption=get_caption_file("accuracy_subsample"),
     params:
         code=get_code("accuracy_subsample"),

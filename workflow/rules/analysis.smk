@@ -11,13 +11,13 @@ rule figures:
         correlations=f"{R}/study/correlations.csv",
         templates=[get_template(n) for n in FIGURE_CAPTIONS],
     output:
-        running_mean=report(f"{R}/study/running_mean.png", caption=get_caption("running_mean"), category="Study"),
-        brick_share=report(f"{R}/study/brick_share.png", caption=get_caption("brick_share"), category="Study"),
-        correlation=report(f"{R}/study/correlation_vs_sigma.png", caption=get_caption("correlation_vs_sigma"),
-                           category="Study"),
-        scatter=report(f"{R}/study/scatter_deviation.png", caption=get_caption("scatter_deviation"),
-                       category="Study"),
-        curves=report(f"{R}/study/curves_by_mode.png", caption=get_caption("curves_by_mode"), category="Study"),
+        running_mean=item(f"{R}/study/running_mean.png", "running_mean", "Study", "Running mean of P_max"),
+        brick_share=item(f"{R}/study/brick_share.png", "brick_share", "Study", "Share of brick failures"),
+        correlation=item(f"{R}/study/correlation_vs_sigma.png", "correlation_vs_sigma", "Study",
+                         "Correlations against precompression"),
+        scatter=item(f"{R}/study/scatter_deviation.png", "scatter_deviation", "Study",
+                     "P_max against each random input"),
+        curves=item(f"{R}/study/curves_by_mode.png", "curves_by_mode", "Study", "Load-displacement curves by mode"),
         captions=[get_caption_file(n) for n in FIGURE_CAPTIONS],
     params:
         code=get_code("figures"),
@@ -37,14 +37,13 @@ rule regression:
         scene=get_study_scene(),
         templates=[get_template(n) for n in REGRESSION_CAPTIONS],
     output:
-        equations=report(f"{R}/study/equations.csv", caption=get_caption("equations"), category="Prediction"),
+        equations=f"{R}/study/equations.csv",
         predictor=f"{R}/study/predictor.json",
-        predicted=report(f"{R}/study/predicted_vs_simulated.png", caption=get_caption("equations"),
-                         category="Prediction"),
-        design=report(f"{R}/study/design_comparison.png", caption=get_caption("design_comparison"),
-                      category="Prediction"),
-        design_table=report(f"{R}/study/design_comparison.csv", caption=get_caption("design_comparison"),
-                            category="Prediction"),
+        predicted=item(f"{R}/study/predicted_vs_simulated.png", "equations", "Prediction",
+                       "Predicted against simulated strength"),
+        design=item(f"{R}/study/design_comparison.png", "design_comparison", "Prediction",
+                    "Design rules against the simulations"),
+        design_table=f"{R}/study/design_comparison.csv",
         captions=[get_caption_file(n) for n in REGRESSION_CAPTIONS],
     params:
         code=get_code("regression"),
@@ -68,8 +67,8 @@ rule sensitivity:
         correlations=f"{R}/study/correlations.csv",
         template=get_template("sensitivity"),
     output:
-        table=report(f"{R}/study/sensitivity.csv", caption=get_caption("sensitivity"), category="Study"),
-        figure=report(f"{R}/study/sensitivity.png", caption=get_caption("sensitivity"), category="Study"),
+        table=f"{R}/study/sensitivity.csv",
+        figure=item(f"{R}/study/sensitivity.png", "sensitivity", "Study", "Sobol indices"),
         caption=get_caption_file("sensitivity"),
     params:
         code=get_code("sensitivity"),
@@ -92,7 +91,7 @@ rule characteristic:
         design=f"{R}/study/design_comparison.csv",
         template=get_template("characteristic"),
     output:
-        table=report(f"{R}/study/characteristic.csv", caption=get_caption("characteristic"), category="Prediction"),
+        table=f"{R}/study/characteristic.csv",
         caption=get_caption_file("characteristic"),
     params:
         code=get_code("characteristic"),
@@ -105,7 +104,7 @@ rule characteristic:
         "../scripts/characteristic.py"
 
 
-if "paper_comparison" in TABLES:
+if "paper_comparison" in PAGES:
 
     rule scorecard:
         """The source paper's published figures beside ours, with our intervals."""
@@ -117,10 +116,9 @@ if "paper_comparison" in TABLES:
             paper=config["study"]["paper"],
             template=get_template("paper_comparison"),
         output:
-            table=report(f"{R}/study/paper_comparison.csv", caption=get_caption("paper_comparison"),
-                         category="Paper side by side"),
-            figure=report(f"{R}/study/paper_comparison.png", caption=get_caption("paper_comparison"),
-                          category="Paper side by side"),
+            table=f"{R}/study/paper_comparison.csv",
+            figure=item(f"{R}/study/paper_comparison.png", "paper_comparison", "Paper side by side",
+                        "The paper's figures beside ours"),
             caption=get_caption_file("paper_comparison"),
         params:
             code=get_code("scorecard"),
@@ -134,22 +132,25 @@ if "paper_comparison" in TABLES:
             "../scripts/scorecard.py"
 
 
-rule tables:
-    """The key tables of the study as HTML pages of the report."""
-    input:
-        **{name: f"{R}/study/{name}.csv" for name in TABLES},
-    output:
-        **{name: report(f"{R}/report/tables/{name}.html", caption=get_caption(caption), category=category)
-           for name, (_, category, caption) in TABLES.items()},
-    params:
-        code=get_code("tables"),
-        titles={name: title for name, (title, _, _) in TABLES.items()},
-    log:
-        f"{R}/logs/study/tables.log",
-    conda:
-        ENV
-    script:
-        "../scripts/tables.py"
+# the tables of each stage as pages of the report (common.smk, PAGES): rule
+# tables for the study's, tables_STAGE for another stage's
+for stage in dict.fromkeys(p[4] for p in PAGES.values()):
+
+    rule:
+        name: "tables" if stage == "study" else f"tables_{stage}"
+        input:
+            **{n: p[0] for n, p in PAGES.items() if p[4] == stage},
+        output:
+            **{n: item(f"{R}/report/tables/{n}.html", p[3], p[2], p[1]) for n, p in PAGES.items() if p[4] == stage},
+        params:
+            code=get_code("tables"),
+            titles={n: p[1] for n, p in PAGES.items() if p[4] == stage},
+        log:
+            f"{R}/logs/report/tables_{stage}.log",
+        conda:
+            ENV
+        script:
+            "../scripts/tables.py"
 
 
 rule further_studies:
@@ -158,9 +159,12 @@ rule further_studies:
     input:
         **{f"{n}_{t}": f"{s['results']}/study/{t}.csv" for n, s in FURTHER.items() for t in ("statistics", "equations")},
         template=get_template("further_study"),
+        # each study's figures and pictures, with the captions its own workflow wrote
+        figures=[item(path, os.path.abspath(f"{s['results']}/report/{caption}.rst"), "Further studies", label,
+                      s["title"]) for s in FURTHER.values() for path, caption, label in get_further_figures(s)],
     output:
-        **{f"{n}_page": report(f"{R}/report/studies/{n}.html", caption=get_caption(f"further_study_{n}"),
-                               category="Further studies", subcategory=s["title"]) for n, s in FURTHER.items()},
+        **{f"{n}_page": item(f"{R}/report/studies/{n}.html", f"further_study_{n}", "Further studies",
+                             "Statistics and equations", s["title"]) for n, s in FURTHER.items()},
         **{f"{n}_caption": get_caption_file(f"further_study_{n}") for n in FURTHER},
     params:
         studies=FURTHER,
@@ -188,10 +192,9 @@ if config.get("geometry_formats"):
             studies=[f["study"] for f in config["geometry_formats"]["formats"].values()],
             template=get_template("geometry_formats"),
         output:
-            table=report(f"{R}/studies/geometry_formats.csv", caption=get_caption("geometry_formats"),
-                         category="Further studies"),
-            page=report(f"{R}/report/tables/geometry_formats.html", caption=get_caption("geometry_formats"),
-                        category="Further studies"),
+            table=f"{R}/studies/geometry_formats.csv",
+            page=item(f"{R}/report/tables/geometry_formats.html", "geometry_formats", "Further studies",
+                      "The geometry study's equations on held-out formats", "brick formats"),
             caption=get_caption_file("geometry_formats"),
         params:
             formats=config["geometry_formats"]["formats"],

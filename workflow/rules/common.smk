@@ -2,6 +2,7 @@ import dataclasses
 import shlex
 import sys
 import os
+from pathlib import Path
 
 from snakemake.utils import validate
 
@@ -110,7 +111,7 @@ def get_validation_outputs():
         return []
     return [f"{R}/validation/summary.csv", f"{R}/validation/load_displacement.png",
             f"{R}/validation/model_numbering.png",
-            *(f"{R}/validation/damage_{run}.png" for run in config["validation"]["pictures"])]
+            *(f"{R}/validation/damage_{run}.png" for run in config["validation"]["pictures"]), *get_pages("validation")]
 
 
 # --- the model-form study ------------------------------------------------------
@@ -130,7 +131,7 @@ def get_hard_case_sets(wildcards):
 
 
 def get_stability_outputs():
-    return [f"{R}/stability/hard_cases.csv"] if config.get("hard_cases") else []
+    return [f"{R}/stability/hard_cases.csv", *get_pages("hard_cases")] if config.get("hard_cases") else []
 
 
 def get_reduced_results():
@@ -143,7 +144,7 @@ def get_reduced_sets(wildcards):
 
 
 def get_reduced_outputs():
-    return [f"{R}/reduced/summary.csv"] if config.get("reduced") else []
+    return [f"{R}/reduced/summary.csv", *get_pages("reduced")] if config.get("reduced") else []
 
 
 def get_specimen_scene(wildcards):
@@ -155,7 +156,7 @@ def get_specimen_sets(wildcards):
 
 
 def get_specimen_outputs():
-    return [f"{R}/specimens/summary.csv"] if config.get("specimens") else []
+    return [f"{R}/specimens/summary.csv", *get_pages("specimens")] if config.get("specimens") else []
 
 
 # --- the stochastic study -------------------------------------------------------
@@ -202,24 +203,105 @@ def get_fine_sets(wildcards):
     return get_job_sets(plan.effective(plan.subsample_fine(config), [plan.pressure(wildcards.sv)]))
 
 
-# the study's key tables as pages the report shows (its CSVs it offers only
-# for download): table name -> (title, report category, caption)
-TABLES = {
-    "statistics": ("P_max per variant, precompression and failure mode, with 95 % intervals", "Study", "statistics"),
-    "increase": ("Increase of the mean from the lowest to the highest precompression", "Study", "increase"),
-    "correlations": ("Pearson correlations of P_max with the random inputs", "Study", "correlations"),
-    "equations": ("Prediction equations (Lasso, 5-fold CV) with 95 % intervals", "Prediction", "equations"),
-    "design_comparison": ("Design rules against the simulations", "Prediction", "design_comparison"),
-    "sensitivity": ("Sobol indices with 95 % intervals, beside the Pearson correlations", "Study", "sensitivity"),
-    "characteristic": ("Characteristic (5 %) strengths with 95 % intervals", "Prediction", "characteristic"),
-    "paper_comparison": ("The source paper side by side", "Paper side by side", "paper_comparison"),
+# The report's tables, each a page it shows in place (a CSV it only offers
+# for download; src/masonrydem/report/tables.py): page name -> (CSV, title,
+# report category, caption, the stage that makes the CSV).  Each stage's
+# pages are made by a rule of their own (workflow/rules/analysis.smk).
+PAGES = {
+    "statistics": (f"{R}/study/statistics.csv", "P_max per variant, precompression and failure mode, with 95 % "
+                   "intervals", "Study", "statistics", "study"),
+    "increase": (f"{R}/study/increase.csv", "Increase of the mean from the lowest to the highest precompression",
+                 "Study", "increase", "study"),
+    "correlations": (f"{R}/study/correlations.csv", "Pearson correlations of P_max with the random inputs",
+                     "Study", "correlations", "study"),
+    "sampling_check": (f"{R}/study/sampling_check.csv", "The samples against their targets", "Study",
+                       "sampling_check", "study"),
+    "sensitivity": (f"{R}/study/sensitivity.csv", "Sobol indices with 95 % intervals, beside the Pearson "
+                    "correlations", "Study", "sensitivity", "study"),
+    "equations": (f"{R}/study/equations.csv", "Prediction equations (Lasso, 5-fold CV) with 95 % intervals",
+                  "Prediction", "equations", "study"),
+    "design_comparison": (f"{R}/study/design_comparison.csv", "Design rules against the simulations", "Prediction",
+                          "design_comparison", "study"),
+    "characteristic": (f"{R}/study/characteristic.csv", "Characteristic (5 %) strengths with 95 % intervals",
+                       "Prediction", "characteristic", "study"),
+    "paper_comparison": (f"{R}/study/paper_comparison.csv", "The source paper side by side", "Paper side by side",
+                         "paper_comparison", "study"),
+    "validation": (f"{R}/validation/summary.csv", "Deterministic runs of the scene", "Validation",
+                   "validation_summary", "validation"),
+    "hard_cases": (f"{R}/stability/hard_cases.csv", "Hard cases: the tails of the inputs", "Stability", "hard_cases",
+                   "hard_cases"),
+    "reduced": (f"{R}/reduced/summary.csv", "Reduced models against the full model", "Reduced models", "reduced",
+                "reduced"),
+    "specimens": (f"{R}/specimens/summary.csv", "Direct tension and triplet shear", "Specimens", "specimens",
+                  "specimens"),
+    "modelform": (f"{R}/modelform/summary.csv", "Every modelling option's change of P_max", "Model form", "modelform",
+                  "modelform"),
+    "accuracy_runs": (f"{R}/accuracy/runs.csv", "Every accuracy run", "Accuracy", "../report/accuracy_runs.rst",
+                      "accuracy"),
+    "accuracy_convergence": (f"{R}/accuracy/convergence.csv", "Convergence of P_max along the refinement path",
+                             "Accuracy", "accuracy_convergence", "accuracy"),
+    "accuracy_choice": (f"{R}/accuracy/choice.csv", "The candidate settings: error and time", "Accuracy",
+                        "accuracy_choice", "accuracy"),
+    "accuracy_scaling": (f"{R}/accuracy/scaling.csv", "Run time against wallette size: power laws", "Accuracy",
+                         "accuracy_scaling", "accuracy"),
+    "accuracy_subsample": (f"{R}/accuracy/subsample.csv", "Study samples at the default and fine settings",
+                           "Accuracy", "accuracy_subsample", "accuracy"),
 }
-if not config["study"].get("paper"):    # a study with no source to compare: no scorecard
-    del TABLES["paper_comparison"]
+# a stage this config does not run has no pages; a study with no source to
+# compare has no scorecard
+PAGES = {n: p for n, p in PAGES.items() if (p[4] == "study" or config.get(p[4]))
+         and (n != "paper_comparison" or config["study"].get("paper"))}
+
+
+def get_pages(stage):
+    """The report's pages of a stage's tables."""
+    return [f"{R}/report/tables/{n}.html" for n, p in PAGES.items() if p[4] == stage]
+
+
+def item(path, caption, category, label, subcategory=None):
+    """A result of the report, labelled (the report lists it by its label,
+    not its file name); ``caption``: a caption's name (get_caption) or path."""
+    return report(path, caption=caption if caption.endswith(".rst") else get_caption(caption), category=category,
+                  subcategory=subcategory, labels={"result": label})
 
 
 # further studies shown in the report, each run on its own (config further_studies)
 FURTHER = config.get("further_studies", {})
+
+
+# a further study's figures: file -> (its caption's name, label)
+FURTHER_FIGURES = {
+    "running_mean": ("running_mean", "Running mean of P_max"),
+    "brick_share": ("brick_share", "Share of brick failures"),
+    "correlation_vs_sigma": ("correlation_vs_sigma", "Correlations against precompression"),
+    "scatter_deviation": ("scatter_deviation", "P_max against each random input"),
+    "curves_by_mode": ("curves_by_mode", "Load-displacement curves by mode"),
+    "predicted_vs_simulated": ("equations", "Predicted against simulated strength"),
+    "design_comparison": ("design_comparison", "Design rules against the simulations"),
+    "sensitivity": ("sensitivity", "Sobol indices"),
+}
+
+
+def get_further_figures(study):
+    """(path, caption name, label) of a further study's committed figures
+    and 3-D pictures (those its own workflow made)."""
+    folder = Path(study["results"], "study")
+    found = [(f"{folder}/{f}.png", c, label) for f, (c, label) in FURTHER_FIGURES.items()
+             if (folder / f"{f}.png").is_file()]
+    return found + [(p.as_posix(), "study_pictures", "3-D picture: " + p.stem.replace("_", " variant, ") + " failure")
+                    for p in sorted((folder / "pictures").glob("*.png"))]
+
+
+def get_modelform_band():
+    """The model-form study's band of P_max changes, for the landing page:
+    read from its committed summary (a parameter, not an input: the study
+    is run by its own target, which `all` never reruns), or None."""
+    path = Path(f"{R}/modelform/summary.csv")
+    if not config.get("modelform") or not path.is_file():
+        return None
+    import pandas as pd
+    from masonrydem.report.landing import modelform_band
+    return modelform_band(pd.read_csv(path))
 
 
 def get_further_outputs():
@@ -238,10 +320,9 @@ def get_study_outputs():
              "brick_share.png", "correlation_vs_sigma.png", "scatter_deviation.png", "curves_by_mode.png",
              "equations.csv", "predictor.json", "predicted_vs_simulated.png", "design_comparison.png",
              "characteristic.csv", "sensitivity.png",
-             *(["paper_comparison.csv"] if "paper_comparison" in TABLES else []))
+             *(["paper_comparison.csv"] if "paper_comparison" in PAGES else []))
     return [*(f"{R}/study/pictures/{v}_{m}.png" for v, m in plan.study_pictures(config)),
-            *(f"{R}/study/{name}" for name in names),
-            *(f"{R}/report/tables/{name}.html" for name in TABLES)]
+            *(f"{R}/study/{name}" for name in names), *get_pages("study"), f"{R}/report/workflow.rst"]
 
 
 # --- the accuracy study -------------------------------------------------------
@@ -291,4 +372,4 @@ def get_accuracy_outputs():
         return []
     return [f"{R}/accuracy/{name}" for name in (
         "references.csv", "runs.csv", "convergence.csv", "choice.csv", "pareto.png", "scaling.csv", "scaling.png",
-        "subsample.csv", "subsample.png")]
+        "subsample.csv", "subsample.png")] + get_pages("accuracy")

@@ -26,14 +26,13 @@ rule modelform_run:
         RUN
 
 
-rule modelform:
+rule modelform_summary:
     """The model-form summary: every option's change of P_max against its baseline."""
     input:
         results=get_modelform_results(),
         template=get_template("modelform"),
     output:
-        table=report(f"{R}/modelform/summary.csv", caption=get_caption("modelform"), category="Model form"),
-        figure=report(f"{R}/modelform/tornado.png", caption=get_caption("modelform"), category="Model form"),
+        table=f"{R}/modelform/summary.csv",
         caption=get_caption_file("modelform"),
     params:
         code=get_code("modelform"),
@@ -46,3 +45,28 @@ rule modelform:
         ENV
     script:
         "../scripts/modelform.py"
+
+
+rule tornado:
+    """The tornado chart, drawn from the summary alone (it can be redrawn
+    where the model-form runs are not: a clone)."""
+    input:
+        table=f"{R}/modelform/summary.csv",
+    output:
+        figure=item(f"{R}/modelform/tornado.png", "modelform", "Model form", "Change of P_max by modelling option"),
+    params:
+        code=get_code("tornado"),
+    log:
+        f"{R}/logs/modelform/tornado.log",
+    conda:
+        ENV
+    script:
+        "../scripts/tornado.py"
+
+
+rule modelform:
+    """snakemake --cores 2 modelform: the model-form study alone."""
+    input:
+        f"{R}/modelform/summary.csv",
+        f"{R}/modelform/tornado.png",
+        get_pages("modelform"),

@@ -3,11 +3,13 @@ rule damage_picture:
     input:
         state=f"{R}/validation/runs/{{run}}/state.vtm",
         result=f"{R}/validation/runs/{{run}}/result.parquet",
+        scene=config["scene"],      # where the rig's supports and loads sit
     output:
-        report(f"{R}/validation/damage_{{run}}.png", caption="../report/damage_picture.rst",
-               category="3-D pictures", subcategory="{run}"),
+        item(f"{R}/validation/damage_{{run}}.png", "../report/damage_picture.rst", "3-D pictures",
+             "Damage at the end of {run}", "validation runs"),
     params:
         code=get_code("damage_picture"),
+        overrides=lambda w: plan.validation_overrides(config, *w.run.rsplit("_sv", 1)),
     log:
         f"{R}/logs/validation/damage_{{run}}.log",
     conda:
@@ -24,8 +26,8 @@ rule study_pictures:
         scene=get_study_scene(),
         template=get_template("study_pictures"),
     output:
-        pictures=[report(f"{R}/study/pictures/{v}_{m}.png", caption=get_caption("study_pictures"),
-                         category="3-D pictures", subcategory="study") for v, m in plan.study_pictures(config)],
+        pictures=[item(f"{R}/study/pictures/{v}_{m}.png", "study_pictures", "3-D pictures",
+                       f"{v} variant, {m} failure", "study") for v, m in plan.study_pictures(config)],
         caption=get_caption_file("study_pictures"),
     params:
         code=get_code("study_pictures"),

@@ -11,6 +11,13 @@
 # results: an input newer than an output is compared by checksum, a changed
 # parameter reruns the job.
 #
+# A record also keeps its job's start and end times, which the report's
+# run-time view shows (restored with a job id of their own: the outputs of
+# one job count as one job).  A record saved without them (before they were
+# kept) stands for a job whose times are unknown: when the report is built
+# it is left out, as Snakemake leaves out an output without a record, and a
+# record whose times are impossible refuses the report (check_record_times).
+#
 # Two things make the records enough:
 # - every step that collects simulations carries, as its parameter
 #   'simulations', the solver's source hash and every run's settings
@@ -20,22 +27,25 @@
 #   profile's rerun triggers leave out 'code', which compares the script's
 #   file time.
 import functools
+import sys
 import hashlib
 import json
 from pathlib import Path
 from types import SimpleNamespace
 
 from masonrydem.pipeline.fingerprint import code_fingerprint
-from masonrydem.pipeline.snakemake_state import read_record, record_path, write_record
+from masonrydem.pipeline.snakemake_state import (building_report, delete_record, read_record, record_path,
+                                                 record_times_error, recorded_paths, write_record)
 
 PROVENANCE = f"{R}/provenance.json"
 # the rules whose outputs are one run each: not committed, so not recorded
 PER_RUN_RULES = {"simulate", "simulate_fine", "accuracy_run", "accuracy_check_run", "accuracy_scaling_run",
                  "modelform_run", "hard_case_run", "reduced_run", "specimen_run"}
 # what a record keeps: Snakemake's fields that decide a rerun (not the
-# command line, which names this machine's interpreter, nor times)
+# command line, which names this machine's interpreter), and the job's
+# times for the report
 RECORD = ("rule", "input", "log", "params", "code", "record_format_version", "conda_env", "container_img_url",
-          "software_stack_hash", "input_checksums")
+          "software_stack_hash", "input_checksums", "starttime", "endtime")
 
 
 def _digest(*items):
@@ -89,7 +99,7 @@ def _kept(record, saved):
     the results elsewhere is judged as the results are)."""
     def rel(path):
         return f"{{R}}/{path[len(R) + 1:]}" if path.startswith(f"{R}/") else path
-    kept = {k: record.get(k) for k in RECORD}
+    kept = {k: record.get(k) for k in RECORD if k not in ("starttime", "endtime") or record.get(k) is not None}
     kept["input"] = [rel(f) for f in record.get("input") or []]
     kept["log"] = [rel(f) for f in record.get("log") or []]
     kept["input_checksums"] = {rel(f): s for f, s in (record.get("input_checksums") or {}).items()
@@ -98,11 +108,13 @@ def _kept(record, saved):
 
 
 def _placed(record):
-    """A saved record with its paths under this R."""
+    """A saved record with its paths under this R, and a job id that is the
+    same for the outputs of one job (its rule and start time)."""
     def here(path):
         return f"{R}{path[3:]}" if path.startswith("{R}/") else path
+    job = int(_digest(record["rule"], record.get("starttime")), 16) if record.get("starttime") else None
     return dict(record, input=[here(f) for f in record["input"]], log=[here(f) for f in record["log"]],
-                input_checksums={here(f): s for f, s in record["input_checksums"].items()})
+                input_checksums={here(f): s for f, s in record["input_checksums"].items()}, job_hash=job)
 
 
 def restore_provenance():
@@ -122,6 +134,35 @@ def restore_provenance():
         if local and ((local.get("endtime") or 0) >= newer_than or _kept(local, entries) == entry["record"]):
             continue
         write_record(path, _placed(entry["record"]))
+
+
+def check_record_times():
+    """When the report is built: the records of the outputs under R as the
+    report's run-time view reads them.  A record without times (put back
+    from a file saved before times were kept: its job ran elsewhere, when
+    is not known) is removed, so that the view leaves its job out (the
+    next run puts it back); a record whose times are impossible refuses
+    the report, naming its output."""
+    unknown, wrong = [], []
+    for path in sorted(p for p in recorded_paths() if p.startswith(f"{R}/")):
+        record = read_record(path)
+        if record is None or record.get("incomplete"):
+            continue
+        if record.get("starttime") is None and record.get("endtime") is None:
+            unknown.append(path)
+        elif error := record_times_error(record):
+            wrong.append(f"{path} (rule {record.get('rule')}): {error}")
+    for path in unknown:
+        delete_record(path)
+    if unknown:
+        print(f"masonrydem: {len(unknown)} outputs under {R} have records without run times (put back from "
+              f"{PROVENANCE}, saved before times were kept): their jobs are left out of the report's run times",
+              file=sys.stderr)
+    if wrong:
+        print("masonrydem: the report is refused: these records' run times are impossible (Snakemake's "
+              "records, .snakemake/metadata); rerun their jobs (snakemake --forcerun RULE) or remove the "
+              "records (snakemake --cleanup-metadata FILE):\n  " + "\n  ".join(wrong), file=sys.stderr)
+        sys.exit(1)
 
 
 def save_provenance():

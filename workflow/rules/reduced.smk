@@ -37,7 +37,7 @@ rule reduced:
         scene=config["scene"],
         template=get_template("reduced"),
     output:
-        table=report(f"{R}/reduced/summary.csv", caption=get_caption("reduced"), category="Reduced models"),
+        table=f"{R}/reduced/summary.csv",
         caption=get_caption_file("reduced"),
     params:
         code=get_code("reduced"),

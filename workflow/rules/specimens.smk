@@ -33,8 +33,8 @@ rule specimens:
         scenes=[c["scene"] for c in plan.specimen_cases(config).values()],
         template=get_template("specimens"),
     output:
-        table=report(f"{R}/specimens/summary.csv", caption=get_caption("specimens"), category="Specimens"),
-        figure=report(f"{R}/specimens/response.png", caption=get_caption("specimens"), category="Specimens"),
+        table=f"{R}/specimens/summary.csv",
+        figure=item(f"{R}/specimens/response.png", "specimens", "Specimens", "Load against displacement"),
         caption=get_caption_file("specimens"),
     params:
         code=get_code("specimens"),

@@ -30,7 +30,7 @@ rule hard_cases:
         results=expand(f"{R}/stability/runs/{{hard}}/result.parquet", hard=plan.hard_case_jobs(config)),
         template=get_template("hard_cases"),
     output:
-        table=report(f"{R}/stability/hard_cases.csv", caption=get_caption("hard_cases"), category="Stability"),
+        table=f"{R}/stability/hard_cases.csv",
         caption=get_caption_file("hard_cases"),
     params:
         code=get_code("hard_cases"),

@@ -1,4 +1,4 @@
-STATISTICS_CAPTIONS = ["statistics", "correlations", "increase", "workflow"]  # workflow: the landing page
+STATISTICS_CAPTIONS = ["statistics", "correlations", "increase"]
 
 
 rule sample:
@@ -28,7 +28,7 @@ rule sampling_check:
     input:
         template=get_template("sampling_check"),
     output:
-        check=report(f"{R}/study/sampling_check.csv", caption=get_caption("sampling_check"), category="Study"),
+        check=f"{R}/study/sampling_check.csv",
         caption=get_caption_file("sampling_check"),
     params:
         design=get_study_design(),
@@ -90,9 +90,9 @@ rule statistics:
         runs=f"{R}/study/runs.parquet",
         templates=[get_template(n) for n in STATISTICS_CAPTIONS],
     output:
-        statistics=report(f"{R}/study/statistics.csv", caption=get_caption("statistics"), category="Study"),
-        correlations=report(f"{R}/study/correlations.csv", caption=get_caption("correlations"), category="Study"),
-        increase=report(f"{R}/study/increase.csv", caption=get_caption("increase"), category="Study"),
+        statistics=f"{R}/study/statistics.csv",
+        correlations=f"{R}/study/correlations.csv",
+        increase=f"{R}/study/increase.csv",
         captions=[get_caption_file(n) for n in STATISTICS_CAPTIONS],
     params:
         code=get_code("statistics"),
@@ -105,6 +105,29 @@ rule statistics:
         ENV
     script:
         "../scripts/statistics.py"
+
+
+rule landing:
+    """The report's landing page: what was run, how, what it found and how
+    it compares with the source paper (src/masonrydem/report/landing.py)."""
+    input:
+        runs=f"{R}/study/runs.parquet",
+        statistics=f"{R}/study/statistics.csv",
+        card=[f"{R}/study/paper_comparison.csv"] if "paper_comparison" in PAGES else [],
+        template=get_template("workflow"),
+    output:
+        f"{R}/report/workflow.rst",
+    params:
+        code=get_code("landing"),
+        analysis=plan.analysis(config),
+        report=plan.report_spec(config),
+        band=get_modelform_band(),
+    log:
+        f"{R}/logs/study/landing.log",
+    conda:
+        ENV
+    script:
+        "../scripts/landing.py"
 
 
 rule study:

@@ -36,10 +36,9 @@ rule validation_summary:
         curves=expand(f"{R}/validation/runs/{{run}}/curve.parquet", run=plan.validation_runs(config)),
         template=get_template("validation_summary"),
     output:
-        table=report(f"{R}/validation/summary.csv", caption=get_caption("validation_summary"),
-                     category="Validation"),
-        figure=report(f"{R}/validation/load_displacement.png", caption=get_caption("validation_summary"),
-                      category="Validation"),
+        table=f"{R}/validation/summary.csv",
+        figure=item(f"{R}/validation/load_displacement.png", "validation_summary", "Validation",
+                    "Load against displacement"),
         caption=get_caption_file("validation_summary"),
     params:
         code=get_code("validation_summary"),
@@ -57,8 +56,8 @@ rule model_numbering:
     input:
         scene=config["scene"],
     output:
-        report(f"{R}/validation/model_numbering.png", caption="../report/model_numbering.rst",
-               category="3-D pictures", subcategory="numbering of units and joints"),
+        item(f"{R}/validation/model_numbering.png", "../report/model_numbering.rst", "3-D pictures",
+             "Units and joints numbered", "the model"),
     params:
         code=get_code("model_numbering"),
     log:

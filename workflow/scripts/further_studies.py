@@ -9,14 +9,14 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem.report import captions  # noqa: E402
+from masonrydem.report import captions, tables  # noqa: E402
 
 for name, study in sm.params.studies.items():
     st = pd.read_csv(sm.input[f"{name}_statistics"])
     eq = pd.read_csv(sm.input[f"{name}_equations"])
-    tables = captions.html_table(st, f"{study['title']}: P_max and strength per variant, level and mode")
-    tables = tables.replace("\n</body></html>\n", "\n" + captions.html_table(eq, "Prediction equations").split("<body>", 1)[1])
-    Path(sm.output[f"{name}_page"]).write_text(tables)
+    page = tables.html_page([("P_max and strength per variant, level and mode", st), ("Prediction equations", eq)],
+                            study["title"])
+    Path(sm.output[f"{name}_page"]).write_text(page)
     spec = sm.params.specs[name]
     ns = st[(st.variant == spec["variant"]) & (st["mode"] == "all")]
     means = "; ".join(f"{getattr(r, spec['level_column']):g} {spec['level_unit']}: {r.P_max_mean_kN:.2f} kN "

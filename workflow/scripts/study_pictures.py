@@ -1,4 +1,4 @@
-"""3-D pictures of typical study runs (figures.typical_run), each run
+"""3-D pictures of typical study runs (captions.typical_run), each run
 again with its final state (the rerun must repeat the recorded P_max
 exactly: runs are bit-for-bit repeatable)."""
 import sys
@@ -13,7 +13,6 @@ import pandas as pd  # noqa: E402
 
 from masonrydem.report import captions, figures  # noqa: E402
 from masonrydem.analysis.statistics import of_study  # noqa: E402
-from masonrydem.report.figures import typical_run  # noqa: E402
 from masonrydem.pipeline.plan import level_override  # noqa: E402
 from masonrydem.specimen.protocol import simulate  # noqa: E402
 from masonrydem.specimen.row import outcome_row, read_json  # noqa: E402
@@ -25,7 +24,7 @@ runs = pd.read_parquet(sm.input.runs)
 level, _ = of_study(sm.params.analysis)
 picked = []
 for (variant, mode), path in zip(sm.params.pictures, sm.output.pictures):
-    pick, at = typical_run(runs, variant, mode, level)
+    pick, at = captions.typical_run(runs, variant, mode, level)
     picked.append((variant, mode, pick, at))
     if pick is None:
         figures.placeholder(f"{variant}: no run failed in the {mode} mode", path)
@@ -33,8 +32,9 @@ for (variant, mode), path in zip(sm.params.pictures, sm.output.pictures):
     samples = read_json(sm.input.samples[sm.params.variants.index(variant)])
     sample = next(s for s in samples if s["sample"] == pick["sample"])
     at_level = level.text(pick[level.column])
-    outcome = simulate(build_scene(sm.input.scene, [*sm.params.overrides, level_override(sm.config, pick[level.column])],
-                                   sample["settings"], f"{variant}:s{pick['sample']}"), progress=False)
+    scene = build_scene(sm.input.scene, [*sm.params.overrides, level_override(sm.config, pick[level.column])],
+                        sample["settings"], f"{variant}:s{pick['sample']}")
+    outcome = simulate(scene, progress=False)
     row = outcome_row(outcome)
     if (row.P_max_kN, row.failure_mode) != (pick.P_max_kN, pick.failure_mode):
         raise RuntimeError(f"{variant} s{pick['sample']} at {at_level}: the rerun gives P_max "
@@ -42,5 +42,5 @@ for (variant, mode), path in zip(sm.params.pictures, sm.output.pictures):
                            f"({pick.failure_mode})")
     picture_damage(state_blocks(outcome.specimen, outcome.state), path, title=f"{variant} sample {pick['sample']}, "
                    f"{level.name} = {at_level}: P_max {pick.P_max_kN:.2f} kN, {mode} failure",
-                   window=figures.PICTURE_WINDOW)
+                   window=figures.PICTURE_WINDOW, rig=scene.loading.bending)
 captions.write_caption(sm.input.template, sm.output.caption, **captions.study_pictures(picked, level))

@@ -1,5 +1,5 @@
-"""The study's key tables as pages of the report (HTML: the report shows
-them in place; the CSVs stay the data)."""
+"""A stage's tables as pages of the report (HTML: the report shows them in
+place; the CSVs stay the data): src/masonrydem/report/tables.py."""
 import sys
 from pathlib import Path
 
@@ -8,9 +8,9 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem.report import captions  # noqa: E402
+from masonrydem.report import tables  # noqa: E402
 
 for name, title in sm.params.titles.items():
     table = pd.read_csv(sm.input[name])
-    Path(sm.output[name]).write_text(captions.html_table(table, title))
+    Path(sm.output[name]).write_text(tables.html_table(table, title))
     print(name, table.shape)

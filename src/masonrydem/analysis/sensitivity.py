@@ -172,18 +172,28 @@ def figure(table, path, level):
             x = h[level.column]
             # a percentile interval need not hold its estimate (an index near 0): bars from the estimate, clipped
             bars = np.clip([h.ST - h.ST_lo, h.ST_hi - h.ST], 0, None)
-            ax.errorbar(x, h.ST, yerr=bars, fmt="o-", color=color, capsize=3, label=f"{name}: ST")
-            ax.plot(x, h.S1, "s:", color=color, ms=4, label=f"{name}: S1")
-            ax.plot(x, h.pearson_sq, "--", color=color, lw=0.8, alpha=0.7, label=f"{name}: r^2")
-        ax.set_title(f"{', '.join(sorted(g.variant.unique()))}, {mode}")
-        ax.set_xlabel(f"{level.name} ({level.unit})" if level.unit else level.name)
+            sym = _symbol(name)
+            ax.errorbar(x, h.ST, yerr=bars, fmt="o-", color=color, capsize=3, label=f"{sym}: total index $S_T$")
+            ax.plot(x, h.S1, "s:", color=color, ms=4, label=f"{sym}: first-order index $S_1$")
+            ax.plot(x, h.pearson_sq, "--", color=color, lw=0.8, alpha=0.7, label=f"{sym}: squared Pearson $r^2$")
+        ax.set_title(f"{', '.join(sorted(g.variant.unique()))} variant, {mode} failure modes"
+                     if mode == "all" else f"{', '.join(sorted(g.variant.unique()))} variant, {mode} failures")
+        ax.set_xlabel(f"{_symbol(level.name)} ({level.unit})" if level.unit else _symbol(level.name))
         ax.set_ylim(-0.02, 1.02)
         ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel("Sobol index / squared Pearson r")
-    axes[0][-1].legend(fontsize=7, ncol=1)
+    axes[0][0].set_ylabel("Sobol index, squared Pearson r")
+    # the legend beside the panels, never over the data
+    fig.legend(*axes[0][0].get_legend_handles_labels(), fontsize=8, loc="center left", bbox_to_anchor=(1.0, 0.5))
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
+
+
+def _symbol(name):
+    """An input's column as a symbol: f_tj_mpa as $f_{tj}$, phi_j_deg as $\\phi_{j}$."""
+    head, sub = (name.split("_") + [""])[:2]
+    head = f"\\{head}" if head in ("phi", "sigma") else head
+    return f"${head}_{{{sub}}}$" if sub else name
 
 
 def caption_values(table, level, variables, correlations):

@@ -11,8 +11,10 @@ pyproject.toml pins Snakemake to the range this was read from, and
 tests/test_snakemake_state.py runs Snakemake and fails when its records
 are not where ``record_path`` says.
 """
+import datetime
 import json
 import os
+import sys
 from base64 import urlsafe_b64encode
 from pathlib import Path
 
@@ -42,6 +44,44 @@ def write_record(path, record, root=METADATA):
     where = record_path(path, root)
     where.parent.mkdir(parents=True, exist_ok=True)
     where.write_text(json.dumps(record))
+
+
+def recorded_paths(root=METADATA):
+    """The outputs Snakemake holds a record of (their paths as ``record_path``
+    encodes them)."""
+    from base64 import urlsafe_b64decode
+    for where in Path(root).rglob("*") if Path(root).is_dir() else ():
+        if where.is_file():
+            yield urlsafe_b64decode("".join(part.lstrip("@") for part in where.relative_to(root).parts)).decode()
+
+
+def delete_record(path, root=METADATA):
+    """Removes the record of ``path``, if there is one."""
+    record_path(path, root).unlink(missing_ok=True)
+
+
+# no job of this project ran before its first commit (November 2026), so
+# none before 2026: an earlier time is a clock's zero or a lost record
+EARLIEST = datetime.datetime(2026, 1, 1).timestamp()
+
+
+def record_times_error(record):
+    """What is impossible about a record's start and end times (Unix
+    seconds), or None: a time missing, before 2026 or an end before the
+    start (the report's run-time view would show a negative run time)."""
+    start, end = record.get("starttime"), record.get("endtime")
+    if start is None or end is None:
+        return f"start {start}, end {end}: a time missing"
+    if min(start, end) < EARLIEST:
+        return f"{datetime.datetime.fromtimestamp(min(start, end)):%Y-%m-%d %H:%M}, before 2026"
+    if end < start:
+        return f"ends {start - end:.3g} s before it starts"
+    return None
+
+
+def building_report(argv=None):
+    """Whether Snakemake was called to build a report (its --report option)."""
+    return any(a == "--report" or a.startswith("--report=") for a in (sys.argv if argv is None else argv))
 
 
 def stop_rate_limiter_timers():

@@ -25,19 +25,6 @@ def write_captions(templates, outputs, values):
         write_caption(t, o, **values.get(Path(t).stem, {}))
 
 
-def html_table(table, title):
-    """A table as a page of the report, which shows an HTML result in place
-    (a CSV it only offers for download): numbers to 5 significant digits,
-    empty cells for undefined values, the header fixed as the page scrolls."""
-    from html import escape
-    body = table.to_html(index=False, na_rep="", border=0, float_format=lambda x: f"{x:.5g}")
-    style = ("body{font:14px sans-serif;margin:8px} table{border-collapse:collapse} "
-             "th,td{padding:3px 8px;text-align:right;border-bottom:1px solid #ddd;white-space:nowrap} "
-             "th{position:sticky;top:0;background:#f4f4f4} tr:hover td{background:#fafae0}")
-    return (f'<!DOCTYPE html>\n<html><head><meta charset="utf-8"><title>{escape(title)}</title>'
-            f"<style>{style}</style></head>\n<body><h3>{escape(title)}</h3>\n{body}\n</body></html>\n")
-
-
 def _num(x, spec):
     """A number for a caption; an undefined one (the COV of one run) says so."""
     return "undefined" if pd.isna(x) else format(x, spec)
@@ -116,44 +103,6 @@ def sampling_check(check, achieved, correlations):
                 cov_dev=100 * (check.cov_sample / check.cov_target - 1).abs().max())
 
 
-def landing(runs, stats, excluded, level, inputs, report):
-    """The report's landing page (workflow.rst): what was run, how, and the
-    study's key table (mean P_max, COV, brick share per variant and level);
-    ``report``: pipeline.plan.report_spec (the study's name, wallette and
-    variants, the report's categories)."""
-    rows = [(r.variant, f"{getattr(r, level.column):g}", f"{r.P_max_mean_kN:.2f}", f"{r.strength_mean_mpa:.3f}",
-             _num(r.P_max_cov, ".3f"), f"{100 * r.brick_share:.0f}", str(r.count))
-            for r in stats[stats["mode"] == "all"].itertuples()]
-    head = ("variant", f"{level.name} ({level.unit})".replace(" ()", ""), "mean P_max (kN)", "strength (MPa)", "COV",
-            "brick (%)", "runs")
-    widths = [max(len(x) for x in col) for col in zip(head, *rows)]
-    rule = "  ".join("=" * w for w in widths)
-    line = lambda cells: "  ".join(c.ljust(w) for c, w in zip(cells, widths)).rstrip()  # noqa: E731
-    levels = sorted(runs[level.column].unique())
-
-    def one(col):
-        vals = runs[col].dropna().astype(str).unique() if col in runs else []
-        return ", ".join(vals) if len(vals) else "not recorded (rows of an older format)"
-
-    variants, n_var = "; ".join(f"{n}: {what}" for n, what in report["variants"].items()), runs.variant.nunique()
-    links = "\n".join(f"- {name if name.isalnum() else f'`{name}`'}_: {what}." for name, what in report["categories"])
-    accuracy = any(name == "Accuracy" for name, _ in report["categories"])
-    return dict(study=report["study"], rule="=" * len(f"masonrydem: the study {report['study']}"),
-                scene=report["scene"], wallette=report["wallette"], test=report["test"],
-                under=" under vertical precompression" if report["precompression"] else "",
-                inputs=f"its {len(report['inputs'])} random input{'s' if len(report['inputs']) > 1 else ''} "
-                       f"({', '.join(report['inputs'])})",
-                variant_list=variants, links=links,
-                accuracy=" (Accuracy_ compares them with finer settings)" if accuracy else "",
-                total=len(runs), variants=f"{n_var} variant{'s' * (n_var != 1)}", n_samples=runs["sample"].nunique(),
-                n_levels=len(levels), level=level.name,
-                levels=f"{', '.join(f'{x:g}' for x in levels)} {level.unit}".rstrip(),
-                blocks=one("blocks"),
-                cells=one("cells"), refine=one("subcontact_refine"), solver=one("solver_version"), excluded=excluded,
-                cpu_h=float(runs["wall_time_s"].sum()) / 3600 if "wall_time_s" in runs else float("nan"),
-                table="\n".join([rule, line(head), rule, *map(line, rows), rule]))
-
-
 FIELDS_NOTE = ("  A variant that draws per unit or joint has field means that hardly vary between its samples (each "
                "field is itself a Latin Hypercube over the wallette's units or joints): its P_max follows the local "
                "values, not the field means, and its correlations with them are close to nothing.")
@@ -186,7 +135,6 @@ def statistics(runs, stats, corr, inc, level, inputs, report):
         corr_lines.append(f"{r.variant}, {level.text(getattr(r, level.column))}: {top} ({vals[top]:+.2f}); "
                           + ", ".join(f"{n} {v:+.2f}" for n, v in vals.items()))
     return dict(
-        workflow=landing(runs, stats, len(bad), level, inputs, report),
         statistics=dict(excluded=len(bad), total=len(runs), lines=_bullets(stat_lines),
                         excluded_detail=(" (" + ", ".join(f"{k}: {v}" for k, v in bad.status.value_counts().items())
                                          + ")") if len(bad) else ""),
@@ -237,9 +185,22 @@ def study_figures(runs, stats, corr, sv_scatter, level, inputs, variant):
         curves_by_mode=dict(lines="; ".join(drops)))
 
 
+def typical_run(runs, variant, mode, level):
+    """The run to picture for a variant and failure mode: at the level where
+    the mode is most frequent among the ok runs, the run nearest the
+    median P_max of the mode there.  Returns (run, the mode's runs at that
+    level), or (None, None) when no run failed in that mode."""
+    group = runs[(runs.variant == variant) & (runs.failure_mode == mode) & runs.ok]
+    if group.empty:
+        return None, None
+    sv = group[level.column].value_counts().sort_index().idxmax()
+    at = group[group[level.column] == sv]
+    return at.iloc[(at.P_max_kN - at.P_max_kN.median()).abs().argmin()], at
+
+
 def study_pictures(picked, level):
     """The pictured runs: (variant, mode, run, the mode's runs at the run's
-    level) as figures.typical_run picks them (run None: no run failed in
+    level) as typical_run picks them (run None: no run failed in
     that mode)."""
     lines = []
     for variant, mode, pick, at in picked:

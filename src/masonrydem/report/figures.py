@@ -111,15 +111,20 @@ def scatter_deviation(runs, at, path, level, means, variant, names):
     -> the input's name) at the level ``at``, coloured by failure mode
     (the runs of ``variant``)."""
     g = runs[runs.ok & (runs.variant == variant) & np.isclose(runs[level.column], at)]
-    fig, axes = plt.subplots(1, len(means), figsize=(4 * len(means), 3.6), sharey=True, squeeze=False)
-    for ax, name in zip(axes[0], means):
+    cols = min(len(means), 2)      # two panels to a row: readable at a report's width
+    rows = -(-len(means) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(4.6 * cols, 3.4 * rows + 0.4), sharey=True, squeeze=False)
+    for ax in axes.flat[len(means):]:
+        ax.set_visible(False)
+    for ax, name in zip(axes.flat, means):
         dev = A.normalised_deviation(g[name], means[name])
         for mode, color in MODES.items():
             sel = (g.failure_mode == mode).to_numpy()
             ax.scatter(dev[sel], g.P_max_kN[sel], s=12, color=color, label=mode)
         ax.set_xlabel(f"({symbol(names[name])} - mean) / mean")
         ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel(P_MAX)
+    for row in axes:
+        row[0].set_ylabel(P_MAX)
     axes[0][0].legend()
     fig.suptitle(f"{variant}, {symbol(level.name)} = {level.text(at)}")
     _save(fig, path)
@@ -347,42 +352,43 @@ def paper_comparison(card, path):
     _save(fig, path)
 
 
+# the model-form study's assumptions as an engineer names them (others: their words)
+ASSUMPTIONS = {"em_eb": r"mortar-to-unit stiffness $E_m/E_b$", "ks_kn": r"joint shear-to-normal stiffness $k_s/k_n$",
+               "rig_shift": "rig shifted along the wall", "precompression_device": "precompression applied by"}
+
+
 def tornado(table, path):
     """The model-form study: per case (rows) and level (columns), each
-    assumption's options as bars of the change of P_max (%), the
-    assumptions sorted by their largest change over the panels; an option
-    that changed the failure mode is hatched."""
+    assumption's options as bars of the change of P_max (%), each named at
+    its end, the assumptions sorted by their largest change; an option that
+    changed the failure mode hatched."""
+    from matplotlib.patches import Patch
     t = table[table.assumption != "baseline"]
     order = t.groupby("assumption").change_pct.apply(lambda c: c.abs().max()).sort_values().index
     cases, levels = list(dict.fromkeys(t["case"])), sorted(t.sigma_v_mpa.unique())
-    fig, axes = plt.subplots(len(cases), len(levels), figsize=(4.2 * len(levels), 0.45 * len(order) * len(cases) + 1.5),
-                             sharey=True, squeeze=False)
+    fig, axes = plt.subplots(len(cases), len(levels), figsize=(5 * len(levels), 0.5 * len(order) * len(cases) + 2),
+                             sharey=True, sharex=True, squeeze=False)
     for (i, case), (j, sv) in itertools.product(enumerate(cases), enumerate(levels)):
-        ax = axes[i, j]
-        g = t[(t["case"] == case) & (t.sigma_v_mpa == sv)]
+        ax, g = axes[i, j], t[(t["case"] == case) & (t.sigma_v_mpa == sv)]
         for y, name in enumerate(order):
             opts = g[g.assumption == name]
             for k, r in enumerate(opts.itertuples()):
-                ax.barh(y + (k - (len(opts) - 1) / 2) * 0.38, r.change_pct, height=0.36,
-                        color="tab:red" if r.change_pct > 0 else "tab:blue", hatch="//" if r.mode_changed else None,
-                        edgecolor="k", lw=0.3)
+                yy = y + (k - (len(opts) - 1) / 2) * 0.4
+                ax.barh(yy, r.change_pct, height=0.38, color="tab:red" if r.change_pct > 0 else "tab:blue",
+                        hatch="//" if r.mode_changed else None, edgecolor="k", lw=0.3)
+                ax.text(r.change_pct + (1 if r.change_pct >= 0 else -1), yy, r.option, fontsize=6, va="center",
+                        ha="left" if r.change_pct >= 0 else "right")
         ax.axvline(0, color="k", lw=0.8)
-        ax.set_yticks(range(len(order)), [n.replace("_", " ") for n in order], fontsize=8)
-        ax.set_title(f"{case} failure case, {sv:g} MPa", fontsize=9)
+        ax.set_yticks(range(len(order)), [ASSUMPTIONS.get(n, n.replace("_", " ")) for n in order], fontsize=8)
+        ax.set_title(f"{case} failure case, " + r"$\sigma_v$" + f" = {sv:g} MPa", fontsize=9)
         ax.grid(axis="x", alpha=0.3)
-        if i == len(cases) - 1:
-            ax.set_xlabel(r"change of $P_{max}$ (%)")
-    _save(fig, path)
-
-
-def typical_run(runs, variant, mode, level):
-    """The run to picture for a variant and failure mode: at the level where
-    the mode is most frequent among the ok runs, the run nearest the
-    median P_max of the mode there.  Returns (run, the mode's runs at that
-    level), or (None, None) when no run failed in that mode."""
-    group = runs[(runs.variant == variant) & (runs.failure_mode == mode) & runs.ok]
-    if group.empty:
-        return None, None
-    sv = group[level.column].value_counts().sort_index().idxmax()
-    at = group[group[level.column] == sv]
-    return at.iloc[(at.P_max_kN - at.P_max_kN.median()).abs().argmin()], at
+    for ax in axes[-1]:
+        ax.set_xlabel(r"change of $P_{max}$ against the baseline (%)")
+    lo, hi = t.change_pct.min(), t.change_pct.max()
+    axes[0, 0].set_xlim(lo - 0.45 * (hi - lo), hi + 0.45 * (hi - lo))     # room for the options' names
+    fig.legend(handles=[Patch(color="tab:red", label=r"$P_{max}$ higher"), Patch(color="tab:blue", label=r"$P_{max}$ lower"),
+                        Patch(facecolor="w", edgecolor="k", hatch="//", label="failure mode changed")],
+               loc="upper center", ncol=3, frameon=False, bbox_to_anchor=(0.5, 1.0))
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.5 / fig.get_figheight()))
+    fig.savefig(path, dpi=100)
+    plt.close(fig)

@@ -106,14 +106,16 @@ def _bands(joints, magnify, crack, thickness, width=0.012):
     return bands
 
 
-def picture_damage(state, path, title="", magnify=None, window=(1600, 1000)):
+def picture_damage(state, path, title="", magnify=None, window=(1600, 1000), rig=None):
     """The cracked, deformed state (a MultiBlock from ``state_blocks`` or
     read from state.vtm), seen from the back (tension) face: the units as
     solids with their edges, coloured by tensile damage (cells with damage
     >= 0.5 darkest); the cracks as bands (``_bands``) on the back face, the
     units' crack interfaces in the units' reds and the mortar joints in
     blues; displacements magnified (by default so that the largest is 3 %
-    of the wall length), so that an open joint shows as a gap.  Returns the
+    of the wall length), so that an open joint shows as a gap; ``rig`` (the
+    scene's loading.bending) adds its supports (back face) and load lines
+    (front face) as lines past the wall's top and bottom.  Returns the
     magnification."""
     zones, joints = state["zones"], state["joints"]
     if magnify is None:
@@ -121,8 +123,9 @@ def picture_damage(state, path, title="", magnify=None, window=(1600, 1000)):
         magnify = 0.03 * float(np.ptp(zones.points[:, 0])) / umax if umax > 0 else 1.0
     zones = zones.warp_by_vector("u", factor=magnify)
     p = pv.Plotter(off_screen=True, window_size=window)
-    bar = dict(vertical=False, position_y=0.03, width=0.38, height=0.07, title_font_size=18, label_font_size=14,
-               n_labels=5, fmt="%.2f")
+    # a bar tall enough that its title (above) and tick labels (below) keep apart
+    bar = dict(vertical=False, position_y=0.02, width=0.36, height=0.12, title_font_size=16, label_font_size=13,
+               n_labels=6, fmt="%.1f")
     p.add_mesh(zones, scalars="damage", cmap=UNIT_CMAP, clim=(0, 1),
                scalar_bar_args=dict(title="unit cracking: cell damage, crack interface D", position_x=0.06, **bar))
     edges = zones.extract_surface(algorithm="dataset_surface").extract_feature_edges(
@@ -137,8 +140,15 @@ def picture_damage(state, path, title="", magnify=None, window=(1600, 1000)):
         if bands.n_cells:
             p.add_mesh(bands, scalars="damage", cmap=cmap, clim=(0, 1), show_scalar_bar=not crack, lighting=False,
                        scalar_bar_args=dict(title="mortar joint damage D", position_x=0.56, **bar))
+    if rig is not None:
+        (_, _, y0, y1, z0, z1) = state["zones"].bounds
+        for xs, y, color in ((rig.supports_x, y1, "black"), (rig.loads_x, y0, "darkgreen")):
+            for x in xs:
+                p.add_mesh(pv.Line((x, y, z0 - 0.04), (x, y, z1 + 0.04)).tube(radius=0.004), color=color)
     p.add_text(f"{title}\nback (tension) face, displacements x {magnify:.0f}; bands: a joint's largest damage "
-               f"through the thickness (from {SHOWN:g}); unit cells with damage >= 0.5 darkest", font_size=11)
+               f"through the thickness (from {SHOWN:g}); unit cells with damage >= 0.5 darkest"
+               + ("\nlines: supports black (back face), loads green (front face)" if rig is not None else ""),
+               font_size=11)
     _camera(p, back=True)
     p.screenshot(str(path))
     p.close()
