@@ -15,7 +15,7 @@ from masonrydem.pipeline.snakemake_state import stop_rate_limiter_timers
 # a stage set to null (by a study's own workflow config, over config.yaml's)
 # is no stage of this workflow
 for key in ("validation", "hard_cases", "half_rate", "reduced", "specimens", "modelform", "accuracy",
-            "further_studies", "geometry_formats"):
+            "further_studies", "geometry_formats", "design"):
     if key in config and config[key] is None:
         del config[key]
 validate(config, "../../config/schema.yaml", set_default=True)
