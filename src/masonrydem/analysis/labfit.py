@@ -197,8 +197,8 @@ def summary(lab, name, entry, fits):
     lines += [f"{f}: AICc {r['aicc']:.2f}, Anderson-Darling p {r['ad_pvalue']:.3f} (bootstrap, "
               f"{p['fit']['resamples']} resamples)" for f, r in fits.items()]
     c = p["characteristic"]
-    lines += [p["fit"]["choice"], f"mean {p['mean_95'][0]} to {p['mean_95'][1]}, cov {p['cov']} "
-              f"({p['cov_95'][0]} to {p['cov_95'][1]}) (95 %)",
+    lines += [p["fit"]["choice"], f"mean {p['mean']} ({p['mean_95'][0]} to {p['mean_95'][1]}), cov {p['cov']} "
+              f"({p['cov_95'][0]} to {p['cov_95'][1]}); 95 % intervals",
               f"characteristic (EN 1990 D7.2, {entry['distribution']}, k_n {c['k_n']}, V_X {c['v_x']}): "
               f"{c['en1990']}; 95/95 tolerance bound (ISO 16269-6) {c['tolerance_95_95']}; 5 % fractile "
               f"{c['fractile_5_95'][0]} to {c['fractile_5_95'][1]} (95 %)",
