@@ -126,3 +126,24 @@ def test_design_table_by_hand():
     assert t.equals(D.design_table(runs, "p_mpa", {"bond": ("bond_mpa", 1.0)},
                                    {"bond": D.density("lognormal", *D.moments(lab))}, {"bond": ("lognormal", lab)},
                                    2.5, 0.4, (0.2, 3.0), 0, resamples=200))            # repeatable from its seed
+
+
+def test_the_worked_examples_design_table_from_its_study_file():
+    """The worked example (config/studies/waal_lab.yaml, its committed runs):
+    the lab records read back through the study file, EN 1996-1-1's f_xk2
+    beside an interval around f_xk; at the fits the weights are 1 up to the
+    study file's rounding of the mean to 4 digits, so the point is the
+    study's own unweighted fractile within 1e-3 and the ESS all 20 runs."""
+    from masonrydem.study.file import load_study
+    study = load_study("config/studies/waal_lab.yaml")
+    lab, sampling, columns, as3700 = D.study_inputs(study, "bond", "mor")
+    assert {n: len(v) for n, (_, v) in lab.items()} == {"bond": 10, "mor": 7}
+    assert as3700 == pytest.approx((0.2194, 3.872), rel=1e-3)       # the sheets' EN 1990 values, as recorded
+    runs = pd.read_parquet("results/studies/waal_lab/study/runs.parquet")
+    t = D.design_table(runs, "p_mpa", columns, sampling, lab, 2.5, D.FXK2_CLAY["general purpose, f_m >= 5 N/mm2"],
+                       as3700, 0, resamples=300)
+    assert list(t.f_xk2_mpa) == [0.4, 0.4] and (t.f_xk_lo_mpa < t.f_xk_mpa).all() and (t.f_xk_mpa < t.f_xk_hi_mpa).all()
+    for r in t.itertuples():
+        y = runs[(runs.p_mpa == r.p_mpa) & runs.ok].strength_mpa
+        assert r.f_xk_mpa == pytest.approx(fractiles.lognormal_fractile(y)[0], rel=1e-3) and r.ess > 19.9
+        assert r.f_xk_hi_mpa - r.f_xk_lo_mpa > r.runs_only_hi_mpa - r.runs_only_lo_mpa     # the lab adds width

@@ -227,6 +227,12 @@ def get_further_outputs():
         ([f"{R}/report/tables/geometry_formats.html"] if config.get("geometry_formats") else [])
 
 
+def get_design_outputs():
+    """The design target's table and page (a workflow config with a
+    'design' section: docs/lab-to-design.md)."""
+    return [f"{R}/design/design.csv", f"{R}/report/tables/design.html"] if config.get("design") else []
+
+
 def get_format_runs(name):
     """A format's runs (config geometry_formats): its study's folder's, or
     this workflow's own study's."""

@@ -4,10 +4,6 @@
 # has a 'design' section (config/studies/waal_lab_workflow.yaml).
 
 
-def get_design_outputs():
-    return [f"{R}/design/design.csv", f"{R}/report/tables/design.html"] if config.get("design") else []
-
-
 if config.get("design"):
 
     rule design:
