@@ -15,6 +15,7 @@ include: "workflow/rules/stability.smk"
 include: "workflow/rules/reduced.smk"
 include: "workflow/rules/specimens.smk"
 include: "workflow/rules/modelform.smk"
+include: "workflow/rules/design.smk"
 
 
 # the saved records put back before Snakemake plans, once every rule is
@@ -42,6 +43,7 @@ rule all:
         get_reduced_outputs(),
         get_specimen_outputs(),
         get_further_outputs(),
+        get_design_outputs(),
 
 
 # the records of what made each result, for a clone (workflow/rules/provenance.smk);

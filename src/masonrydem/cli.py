@@ -5,10 +5,12 @@ user, the study's jobs and the workflow's runs alike.
       [--samples FILE --sample N --variant V] [--format parquet|json] [--exit-zero]
   masonrydem check SCENE.yaml [--set path.to.key=value ...] | masonrydem check STUDY.yaml
   masonrydem predict PREDICTOR NAME=VALUE ...
+  masonrydem fit LAB.csv --name NAME --setting KEY [--measured M] [--depth D] [--factor F --source S] ...
 
 ``check`` validates a scene or a study file and estimates what it runs
 (pipeline/check.py) without building, drawing or running anything; ``predict`` evaluates a study's prediction equations
-(predict.py).
+(predict.py); ``fit`` reads a lab's results and writes a study file's
+variable block (analysis/labsheet.py, analysis/labfit.py).
 
 Exit codes: 0 the run ended ok; 1 it ended not ok (its row says why:
 status and message); 2 bad input, refused before any computation (the
@@ -262,6 +264,52 @@ def _predict(args):
     return 0
 
 
+def _fit(args):
+    """``fit``: a lab sheet -> a study file's variable block (YAML on
+    stdout, what the fit found as comments above it)."""
+    import yaml
+
+    from .analysis import labfit, labsheet
+    from .specimen.quantities import to_si
+    from .specimen.scene import setting_unit
+    unit = setting_unit(args.setting)
+    if unit is None:
+        raise InputError("--setting", f"{args.setting!r} is not a numeric setting of a scene (scene_schema.yaml)")
+    if args.resamples < 99:
+        raise InputError("--resamples", f"{args.resamples}: at least 99 for a p-value to 0.01")
+    depth = to_si(args.depth, "m", "--depth") if args.depth is not None else None
+    lab = labsheet.read_sheet(args.lab, unit)
+    measured = lab["measured"] or args.measured
+    if args.measured and lab["measured"] and args.measured != lab["measured"]:
+        raise InputError("--measured", f"{args.measured}: a {lab['form'].replace('_', ' ')} sheet measures "
+                                       f"{lab['measured']}")
+    if measured is None:
+        raise InputError("--measured", f"say what {lab['quantity']!r} measured: {', '.join(labsheet.CONVERSIONS)}")
+    factor, source = labsheet.conversion(measured, depth or lab["depth"], args.factor, args.source)
+    entry, fits = labfit.block(lab, args.name, args.setting, unit, factor, source, args.seed, args.per,
+                               args.distribution, args.prior_cov, args.resamples)
+    print("\n".join(f"# {line}" for line in labfit.summary(lab, args.name, entry[args.name], fits)))
+    print(yaml.safe_dump({"variables": entry}, sort_keys=False, width=100, allow_unicode=True), end="")
+    return 0
+
+
+def _fit_parser(sub):
+    fit = sub.add_parser("fit", help="a lab's results (CSV) -> a study file's variable block with its provenance")
+    fit.add_argument("lab", help="the lab sheet: one column 'f_tj [MPa]', or a bond-wrench or unit flexural sheet")
+    fit.add_argument("--name", required=True, help="the variable's name in the study file")
+    fit.add_argument("--setting", required=True, help="the scene setting it drives, e.g. materials.joints.ft")
+    fit.add_argument("--per", choices=("unit", "joint"), help="what carries one value where a variant draws per item")
+    fit.add_argument("--measured", help="what a results column measured: flexural_bond, modulus_of_rupture or "
+                                        "as_is (a sheet of raw records says it itself)")
+    fit.add_argument("--depth", help="the specimens' depth for the conversion of a results column, e.g. '100 mm'")
+    fit.add_argument("--factor", type=float, help="the conversion factor by hand (needs --source)")
+    fit.add_argument("--source", help="where --factor comes from")
+    fit.add_argument("--distribution", choices=("lognormal", "normal"), help="default: the smaller AICc")
+    fit.add_argument("--prior-cov", type=float, help="a documented prior COV: EN 1990's k_n with V_X known")
+    fit.add_argument("--seed", type=int, default=0, help="the goodness of fit's bootstrap seed (default 0)")
+    fit.add_argument("--resamples", type=int, default=999, help="its resamples (default 999)")
+
+
 def parser():
     p = argparse.ArgumentParser(prog="masonrydem", description="Masonry micro-model DEM solver.",
                                 epilog="exit codes: 0 ok, 1 the run ended not ok, 2 bad input, 3 internal error")
@@ -295,10 +343,11 @@ def parser():
     pred.add_argument("inputs", nargs="+", metavar="NAME=VALUE",
                       help="each input of the study's equations by its name in the study file, with its unit, "
                            "e.g. f_tu='3.5 MPa' (a plain number is SI)")
+    _fit_parser(sub)
     return p
 
 
-COMMANDS = dict(check=_check, predict=_predict)   # and run (main)
+COMMANDS = dict(check=_check, predict=_predict, fit=_fit)   # and run (main)
 
 
 def main(argv=None, stream=None, started=None):

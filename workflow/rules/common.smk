@@ -16,7 +16,7 @@ from masonrydem.pipeline.snakemake_state import stop_rate_limiter_timers
 # a stage set to null (by a study's own workflow config, over config.yaml's)
 # is no stage of this workflow
 for key in ("validation", "hard_cases", "half_rate", "reduced", "specimens", "modelform", "accuracy",
-            "further_studies", "geometry_formats"):
+            "further_studies", "geometry_formats", "design"):
     if key in config and config[key] is None:
         del config[key]
 validate(config, "../../config/schema.yaml", set_default=True)
@@ -307,6 +307,12 @@ def get_modelform_band():
 def get_further_outputs():
     return [f"{R}/report/studies/{n}.html" for n in FURTHER] + \
         ([f"{R}/report/tables/geometry_formats.html"] if config.get("geometry_formats") else [])
+
+
+def get_design_outputs():
+    """The design target's table and page (a workflow config with a
+    'design' section: docs/lab-to-design.md)."""
+    return [f"{R}/design/design.csv", f"{R}/report/tables/design.html"] if config.get("design") else []
 
 
 def get_format_runs(name):

@@ -98,6 +98,10 @@ def study_summary(study):
         mean = _shown(v.mean, unit) if v.mean is not None else "uniform"
         lines.append(f"  {v.name}: {v.dist}, mean {mean}, {spread}{where} -> {v.setting}"
                      + (f" (one per {v.per} where a variant draws per item)" if v.per else ""))
+        if v.name in study.provenance:
+            r = study.provenance[v.name]
+            lines.append(f"    fitted to {r['data']} ({r['n']} results, its SHA-256 the record's) x "
+                         f"{r['conversion']['factor']:g}")
     lines += [f"  correlation {a}-{b}: {rho:g}" for (a, b), rho in study.correlations.items()]
     lines += [f"  variant {n}: draws {v['draw']}" + (f", correlation length {v['correlation_length']:g} m"
                                                       if v["correlation_length"] else "")

@@ -19,13 +19,17 @@ and, where one fits, a suggestion:
   correlations that no joint distribution has (a matrix that is not
   positive definite: the pairs that break it are named);
 - fewer samples than the analysis needs (MIN_SAMPLES);
+- a variable's lab record (provenance) whose data file is missing or has
+  changed since the fit;
 - what the scene refuses: the rules, each variable at its mean and each
   swept level (the scene is validated with each), a correlation's
   variables and a regression feature.
 """
 import difflib
 import re
-from dataclasses import dataclass, replace
+import hashlib
+from dataclasses import dataclass, field, replace
+from pathlib import Path
 from importlib import resources
 
 from jsonschema import Draft202012Validator
@@ -57,6 +61,7 @@ class Study:
     sweep_name: str            # the swept setting's name as an input
     units: dict                # input (a variable or the sweep's name) -> its SI unit
     regression_variant: str = None   # the variant the equations are fitted on (None: none fitted)
+    provenance: dict = field(default_factory=dict)   # variable -> its lab fit's record (masonrydem fit)
 
     def variable(self, name):
         return next(v for v in self.variables if v.name == name)
@@ -206,6 +211,19 @@ def _variable(name, v):
                     bounds=bounds or None, setting=v["setting"], per=v.get("per"))
 
 
+def _provenance(name, record):
+    """A variable's lab record, its data file there and unchanged since
+    the fit (its SHA-256 the record's)."""
+    field = f"variables.{name}.provenance.data"
+    path = Path(record["data"])
+    if not path.is_file():
+        raise InputError(field, f"{record['data']}: no such file (a path from the working directory)")
+    if hashlib.sha256(path.read_bytes()).hexdigest() != record["sha256"]:
+        raise InputError(field, f"{record['data']} has changed since the fit (its SHA-256 is not the record's): "
+                                "fit it again (masonrydem fit)")
+    return record
+
+
 def _variant(name, raw, variables):
     """{'draw': ..., 'correlation_length': m or None} of a variant."""
     field, draw = f"variants.{name}", raw["draw"]
@@ -240,7 +258,9 @@ def _typed(raw):
     study = Study(name=raw["name"], scene=raw["scene"], samples=raw["samples"], seed=raw["seed"], variables=variables,
                   correlations=correlations, variants=variants, rules=rules,
                   sweep_setting=sweep["setting"], levels=levels, features=features,
-                  sweep_name=sweep_name, units=units, regression_variant=_regression_variant(raw, variants))
+                  sweep_name=sweep_name, units=units, regression_variant=_regression_variant(raw, variants),
+                  provenance={n: _provenance(n, v["provenance"]) for n, v in raw["variables"].items()
+                              if "provenance" in v})
     _check_against_scene(study)
     return study
 

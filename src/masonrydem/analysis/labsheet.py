@@ -1,0 +1,265 @@
+"""A lab's test results read from a CSV sheet, refused before any fit when
+something is wrong, and turned into the model's parameter
+(docs/lab-to-design.md, sections 1 to 3).
+
+Three forms, told apart by their headers; every header but the text
+columns (``failure``, ``specimen``, ``note``) is ``name [unit]``:
+
+1. results: one column of strengths (or moduli), ``f_tj [MPa]``;
+2. bond wrench: ``load``, ``lever arm``, ``width`` (the bed's length along
+   the unit), ``depth`` (the joint's depth in the plane of bending: the wall's
+   thickness), optional ``wrench weight`` with ``wrench lever arm``, and
+   ``unit weight`` (what the joint carries at its centre);
+3. unit flexure: ``load``, ``span``, optional ``load span`` (four-point
+   bending; without it three-point), ``width``, ``depth``.
+
+Rows are numbered as a text editor shows the file's lines (comment lines,
+starting with '#', and the header count), columns as the header writes
+them: ``lab.csv row 4, column 'load [kN]'``.
+"""
+import csv
+import hashlib
+import io
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..specimen.quantities import to_si
+
+MIN_RESULTS = 3
+TEXT_COLUMNS = ("failure", "specimen", "note")
+
+# the failure column's codes per form: kept, or screened with the reason the
+# report gives; an empty cell keeps the specimen, any other text is refused
+FAILURE_CODES = {
+    "results": {"keep": ("", "ok", "valid"),
+                "screen": {"invalid": "declared invalid by the lab",
+                           "outside": "failed outside what the test measures"}},
+    "bond_wrench": {"keep": ("", "ok", "valid", "bond", "joint"),
+                    "screen": {"unit": "broke through a unit: it measured the unit, not the bond",
+                               "outside": "failed outside the tested joint",
+                               "clamp": "failed at, or because of, the clamp",
+                               "invalid": "declared invalid by the lab"}},
+    "unit_flexure": {"keep": ("", "ok", "valid", "inside"),
+                     "screen": {"outside": "broke outside the constant-moment zone",
+                                "support": "broke at a support or under a loading point",
+                                "invalid": "declared invalid by the lab"}},
+}
+
+# header names (lower case) -> the formula's symbol, per form; symbol -> SI unit, words
+BOND_WRENCH = {"load": "F1", "lever arm": "e1", "wrench weight": "F2", "wrench lever arm": "e2",
+               "unit weight": "F3", "width": "b", "depth": "d"}
+UNIT_FLEXURE = {"load": "P", "span": "L", "load span": "L_i", "width": "b", "depth": "d"}
+SYMBOLS = {"F1": ("N", "the failure load"), "F2": ("N", "the wrench's weight"), "F3": ("N", "the unit's weight"),
+           "P": ("N", "the failure load"), "e1": ("m", "the lever arm"), "e2": ("m", "the wrench's lever arm"),
+           "L": ("m", "the span"), "L_i": ("m", "the load span"), "b": ("m", "the width"), "d": ("m", "the depth")}
+OPTIONAL = ("F2", "e2", "F3", "L_i")
+MEASURES = {"bond_wrench": "flexural_bond", "unit_flexure": "modulus_of_rupture"}
+
+
+def bond_wrench_strength(F1, e1, b, d, F2=0.0, e2=0.0, F3=0.0):
+    """Flexural bond strength of a joint broken by a bond wrench (SI):
+    the elastic stress at the face that opens, bending less the vertical
+    loads' compression, f = (F1 e1 + F2 e2) / Z - (F1 + F2 + F3) / A,
+    Z = b d^2 / 6, A = b d, the lever arms measured from the joint's centre
+    (ASTM C1072's gross-area expression, with F3 the weight the joint
+    carries)."""
+    Z, A = b * d ** 2 / 6.0, b * d
+    return (F1 * e1 + F2 * e2) / Z - (F1 + F2 + F3) / A
+
+
+def flexural_strength(P, L, b, d, L_i=0.0):
+    """Modulus of rupture of a simply supported unit (SI): the moment
+    between the loads P (L - L_i) / 4 over Z = b d^2 / 6, f = 3 P (L - L_i) /
+    (2 b d^2); L_i = 0 is three-point bending (3 P L / 2 b d^2), L_i = L / 3
+    third-point bending (P L / b d^2)."""
+    return 3.0 * P * (L - L_i) / (2.0 * b * d ** 2)
+
+
+def read_sheet(path, unit="Pa"):
+    """The sheet at ``path`` read, every cell checked: a dict with the
+    file's name, sha256, form, quantity, what it measured (flexural_bond,
+    modulus_of_rupture, or None for a results column), the valid results
+    in SI (``values``, the results column's in ``unit``), their rows, the
+    specimens' mean depth (m, None for results), the screened specimens
+    (row, code, reason) and the method.  InputError names the row and the
+    column: no header or rows, a header without a unit or of an unknown
+    name, a cell that is no finite number, a zero or negative load,
+    dimension or result, an unknown failure code, every specimen
+    screened, fewer than 3 results."""
+    path = Path(path)
+    raw = path.read_bytes()
+    lines = [(i, t) for i, t in enumerate(raw.decode("utf-8-sig").splitlines(), 1)
+             if t.strip() and not t.lstrip().startswith("#")]
+    if not lines:
+        raise InputError(path.name, "the file has no header and no specimens")
+    header_row, rows = lines[0][0], lines[1:]
+    sep = _separator(lines[0][1])
+    table = [[c.strip() for c in next(csv.reader(io.StringIO(t), delimiter=sep))] for _, t in lines]
+    columns = table[0]
+    where = lambda row, col: f"{path.name} row {row}, column '{col}'"   # noqa: E731
+    if not rows:
+        raise InputError(f"{path.name} row {header_row}", "a header and no specimens under it")
+    form, keys, text = _columns(columns, header_row, where)
+    factors = {c: _unit_factor(c, SYMBOLS[k][0] if form != "results" else unit, where(header_row, c))
+               for c, k in keys.items()}
+    cells, screened = [], []
+    for (row, _), cells_of_row in zip(rows, table[1:]):
+        if len(cells_of_row) != len(columns):
+            raise InputError(f"{path.name} row {row}", f"{len(cells_of_row)} cells under {len(columns)} columns")
+        record = dict(zip(columns, cells_of_row))
+        code = record[text["failure"]].lower() if "failure" in text else ""
+        if code in FAILURE_CODES[form]["screen"]:
+            screened.append({"row": row, "failure": record[text["failure"]],
+                             "reason": FAILURE_CODES[form]["screen"][code]})
+            continue
+        if code not in FAILURE_CODES[form]["keep"]:
+            codes = FAILURE_CODES[form]
+            raise InputError(where(row, text["failure"]),
+                             f"{record[text['failure']]!r} is no failure code of a {form.replace('_', ' ')} sheet: "
+                             f"kept {', '.join(c for c in codes['keep'] if c)} (or empty), screened "
+                             f"{', '.join(codes['screen'])}")
+        cells.append((row, {k: _cell(record[c], factors[c], k, where(row, c)) for c, k in keys.items()}))
+    return _results(path, raw, form, keys, cells, screened, where, text, header_row)
+
+
+def _separator(header):
+    try:
+        return csv.Sniffer().sniff(header, delimiters=",;\t").delimiter
+    except csv.Error:
+        return ","
+
+
+def _columns(columns, row, where):
+    """(form, {column: symbol}, {text column's name: column})."""
+    text, named = {}, {}
+    for col in columns:
+        m = re.fullmatch(r"(.*?)\s*\[\s*(.*?)\s*\]", col)
+        if m is None:
+            if col.lower() in TEXT_COLUMNS:
+                text[col.lower()] = col
+                continue
+            raise InputError(where(row, col), "a header needs its unit, 'name [unit]', such as 'load [kN]' or "
+                                              "'f_tj [MPa]' (the text columns: failure, specimen, note)")
+        if not m[1] or not m[2]:
+            raise InputError(where(row, col), "a header is a name and a unit, 'name [unit]'")
+        named[col] = m[1].strip().lower()
+    if not named:
+        raise InputError(where(row, columns[0]), "no column of results")
+    names = set(named.values())
+    vocabulary = UNIT_FLEXURE if "span" in names else BOND_WRENCH if "lever arm" in names else None
+    if vocabulary is None:
+        if len(named) == 1:
+            return "results", {col: "result" for col in named}, text
+        raise InputError(where(row, list(named)[1]), "one column of results ('f_tj [MPa]'), a bond-wrench sheet "
+                                                     "(a 'lever arm' column) or a flexural-test sheet (a 'span' column)")
+    form = "unit_flexure" if vocabulary is UNIT_FLEXURE else "bond_wrench"
+    keys = {}
+    for col, name in named.items():
+        if name not in vocabulary or vocabulary[name] in keys.values():
+            raise InputError(where(row, col), f"no column of a {form.replace('_', ' ')} sheet, or a second one of "
+                                              f"its name (its columns: {', '.join(vocabulary)})")
+        keys[col] = vocabulary[name]
+    missing = [n for n, k in vocabulary.items() if k not in keys.values() and k not in OPTIONAL]
+    if missing:
+        raise InputError(where(row, list(named)[0]), f"a {form.replace('_', ' ')} sheet needs the columns "
+                                                     f"{', '.join(missing)} too")
+    if form == "bond_wrench" and ("F2" in keys.values()) != ("e2" in keys.values()):
+        raise InputError(where(row, list(named)[0]), "the wrench's weight and its lever arm go together: both or neither")
+    return form, keys, text
+
+
+def _unit_factor(col, si, field):
+    """The size in SI of one of the column's unit, of the dimension ``si``."""
+    unit = re.fullmatch(r".*\[\s*(.*?)\s*\]", col)[1]
+    return to_si(f"1 {unit}", si, field)
+
+
+def _cell(text, factor, symbol, field):
+    """A cell's number in SI: refused if empty, not a finite number, or
+    (a result, a load or a dimension) not above zero."""
+    try:
+        value = float(text)
+    except ValueError:
+        comma = " (a decimal comma? write 0.28, not 0,28)" if re.fullmatch(r"-?\d+,\d+", text) else ""
+        raise InputError(field, f"{text!r} is not a number{comma}" if text else "the cell is empty") from None
+    if not math.isfinite(value):
+        raise InputError(field, f"{text!r} is not a finite number")
+    if value < 0 or value == 0 and symbol not in OPTIONAL:
+        raise InputError(field, f"{text}: {SYMBOLS.get(symbol, ('', 'a result'))[1]} must be above 0")
+    return value * factor
+
+
+def _results(path, raw, form, keys, cells, screened, where, text, header_row):
+    result_col = next(c for c, k in keys.items() if k in ("result", "F1", "P"))
+    if not cells:
+        raise InputError(f"{path.name} rows {screened[0]['row']}-{screened[-1]['row']}, column '{text['failure']}'",
+                         "every specimen is screened out: nothing is left to fit")
+    values = []
+    for row, c in cells:
+        if form == "results":
+            v = c["result"]
+        elif form == "bond_wrench":
+            v = bond_wrench_strength(c["F1"], c["e1"], c["b"], c["d"], c.get("F2", 0.0), c.get("e2", 0.0),
+                                     c.get("F3", 0.0))
+        else:
+            if c.get("L_i", 0.0) >= c["L"]:
+                raise InputError(where(row, next(k for k, s in keys.items() if s == "L_i")),
+                                 "the load span must be shorter than the span")
+            v = flexural_strength(c["P"], c["L"], c["b"], c["d"], c.get("L_i", 0.0))
+        if not v > 0:
+            raise InputError(where(row, result_col), f"the strength comes out at {v / 1e6:.4g} MPa: the vertical "
+                                                     "loads' compression exceeds the bending (lever arms from the "
+                                                     "joint's centre?)")
+        values.append(v)
+    if len(values) < MIN_RESULTS:
+        rows = ", ".join(str(r) for r, _ in cells)
+        raise InputError(f"{path.name} row{'s' if len(cells) > 1 else ''} {rows}, column '{result_col}'",
+                         f"{len(values)} valid result{'s' if len(values) > 1 else ''}: at least {MIN_RESULTS} "
+                         "are needed" + (f" ({len(screened)} screened out)" if screened else ""))
+    quantity = re.match(r"(.*?)\s*\[", result_col)[1] if form == "results" else \
+        {"bond_wrench": "flexural bond strength", "unit_flexure": "modulus of rupture"}[form]
+    method = {"results": "read as written",
+              "bond_wrench": "bond wrench: (F1 e1 + F2 e2) / Z - (F1 + F2 + F3) / A, lever arms from the joint's centre",
+              "unit_flexure": ("four-point bending, 3 P (L - L_i) / (2 b d^2)" if "L_i" in keys.values()
+                               else "three-point bending, 3 P L / (2 b d^2)")}[form]
+    depth = float(np.mean([c["d"] for _, c in cells])) if form != "results" else None
+    return {"name": path.name, "path": str(path), "sha256": hashlib.sha256(raw).hexdigest(), "form": form,
+            "quantity": quantity, "measured": MEASURES.get(form), "values": np.array(values),
+            "rows": [r for r, _ in cells], "depth": depth, "screened": screened, "method": method,
+            "header_row": header_row}
+
+
+# --- from the test to the model's parameter -------------------------------------
+CONVERSIONS = {
+    "flexural_bond": "EN 1992-1-1:2004, 3.1.8(1), eq. (3.23), f_ctm,fl = max(1.6 - h/1000, 1) f_ctm (h in mm), "
+                     "at the joint's depth: a relation of concrete's flexural and axial tensile strengths, taken "
+                     "by analogy for the joint's bond (no masonry source relating the bond wrench to direct "
+                     "tension was found)",
+    "modulus_of_rupture": "EN 1992-1-1:2004, 3.1.8(1), eq. (3.23), f_ctm,fl = max(1.6 - h/1000, 1) f_ctm (h in mm), "
+                          "at the unit's depth: a relation of concrete's flexural and axial tensile strengths, "
+                          "taken by analogy for a fired-clay unit",
+    "as_is": "none: the column holds the model's quantity itself (a direct tension test, a modulus)",
+}
+
+
+def conversion(measured, depth=None, factor=None, source=None):
+    """(factor, source): the model's parameter is ``factor`` times what the
+    test measured.  By default the flexural tests by EN 1992-1-1's relation
+    at ``depth`` (m), 1 / max(1.6 - h/1000, 1); ``as_is`` 1.  A ``factor``
+    given by hand needs its ``source``."""
+    if measured not in CONVERSIONS:
+        raise InputError("--measured", f"{measured!r}: say what the results measured: {', '.join(CONVERSIONS)}")
+    if factor is not None:
+        if not factor > 0 or not source:
+            raise InputError("--factor", f"{factor}: a factor above 0, with its --source")
+        return float(factor), source
+    if measured == "as_is":
+        return 1.0, CONVERSIONS[measured]
+    if depth is None or not depth > 0:
+        raise InputError("--depth", f"the {measured.replace('_', ' ')} converts at the specimen's depth: give it "
+                                    "(such as --depth '100 mm')")
+    return 1.0 / max(1.6 - depth * 1e3 / 1000.0, 1.0), CONVERSIONS[measured]

@@ -1,0 +1,273 @@
+"""A lab's results fitted (analysis/labsheet.py, analysis/labfit.py), each
+check against an independent reason: EN 1990's printed Table D1, published
+tolerance factors, closed forms worked by hand, a second implementation
+(statics), coverage at the nominal rate within binomial limits, and
+p-values uniform under the null."""
+import hashlib
+import math
+
+import numpy as np
+import pytest
+import yaml
+from scipy import stats
+
+from masonrydem.analysis import labfit as F
+from masonrydem.analysis import labsheet as S
+from masonrydem.cli import main
+from masonrydem.errors import InputError
+
+EXAMPLE = [0.28, 0.41, 0.33, 0.37, 0.22, 0.45, 0.31, 0.39, 0.35, 0.30]   # MPa: the worked example's bond strengths
+BOND_SHEET, UNIT_SHEET = "config/lab/waal_bond_wrench.csv", "config/lab/waal_unit_flexure.csv"
+
+
+def limits(trials, rate, level=0.999):
+    """Two-sided binomial acceptance limits of a count at ``rate``."""
+    return stats.binom.ppf((1 - level) / 2, trials, rate), stats.binom.isf((1 - level) / 2, trials, rate)
+
+
+def sheet(tmp_path, text, name="lab.csv"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+# --- EN 1990 Annex D -------------------------------------------------------------
+PRINTED = [n for n in F.TABLE_D1["n"] if n >= 3]
+
+
+@pytest.mark.parametrize("known", [True, False])
+def test_kn_reproduces_table_d1_to_001(known):
+    """D7.2's formula against the table EN 1990 prints, n = 3 to 30 and
+    infinity.  One printed entry is not the formula's: V_X unknown, n = 20,
+    printed 1.76, t_{19,0.95} sqrt(21/20) = 1.729 x 1.0247 = 1.772 (the
+    table's is the smaller, less safe one); it is asserted as it is."""
+    for n in PRINTED:
+        if not known and n == 20:
+            assert F.kn(20) == pytest.approx(1.7718, abs=5e-4) and F.table_d1(20) == 1.76
+            continue
+        assert abs(F.kn(n, known) - F.table_d1(n, known)) <= 0.01, n
+
+
+def test_kn_with_vx_unknown_is_a_95_percent_prediction_bound():
+    # xbar - k_n s is below one more value of the same normal population 95 % of the time
+    g = np.random.default_rng(11)
+    x, new = g.normal(10, 2, (20000, 5)), g.normal(10, 2, 20000)
+    lo, hi = limits(20000, 0.95)
+    assert lo <= np.sum(new >= x.mean(1) - F.kn(5) * x.std(1, ddof=1)) <= hi
+
+
+# published B-basis (90 % content, 95 % confidence) one-sided normal factors (CMH-17-1G)
+B_BASIS = {3: 6.157, 5: 3.408, 10: 2.355, 15: 2.069, 20: 1.927, 23: 1.870, 50: 1.646}
+
+
+@pytest.mark.parametrize("n", sorted(B_BASIS))
+def test_tolerance_factor_matches_published_factors(n):
+    assert F.tolerance_factor(n, content=0.90) == pytest.approx(B_BASIS[n], abs=0.003)
+
+
+def test_tolerance_bound_covers_at_its_confidence():
+    y = np.random.default_rng(12).normal(0, 1, (4000, 10))
+    hits = np.sum(y.mean(1) - F.tolerance_factor(10) * y.std(1, ddof=1) <= stats.norm.ppf(0.05))
+    lo, hi = limits(4000, 0.95)
+    assert lo <= hits <= hi
+
+
+@pytest.mark.parametrize("n", [5, 10, 30])
+def test_interval_of_the_characteristic_value_covers_a_lognormals_fractile(n):
+    """1000 synthetic labs of a known lognormal: the 95 % interval of the 5 %
+    fractile covers exp(mu + z_0.05 sigma) at 95 %, each side missing at 2.5 %."""
+    mu, sigma = math.log(0.3), 0.25
+    truth = math.exp(mu + stats.norm.ppf(0.05) * sigma)
+    lo, hi = F.fractile_interval(np.random.default_rng(100 + n).lognormal(mu, sigma, (1000, n)), "lognormal")
+    a, b = limits(1000, 0.95)
+    assert a <= np.sum((lo <= truth) & (truth <= hi)) <= b
+    a, b = limits(1000, 0.025)
+    assert a <= np.sum(lo > truth) <= b and a <= np.sum(hi < truth) <= b
+
+
+def test_cov_and_mean_intervals_cover_at_their_rate():
+    g = np.random.default_rng(13)
+    labs = g.normal(1.0, 0.2, (600, 10))
+    cov_hits = sum(lo <= 0.2 <= hi for lo, hi in map(F.cov_interval, labs))
+    mean_hits = sum(lo <= 1.0 <= hi for lo, hi in map(F.mean_interval, labs))
+    a, b = limits(600, 0.95)
+    assert a <= cov_hits <= b and a <= mean_hits <= b
+
+
+def test_worked_example_by_hand():
+    """Mean 0.341 MPa, COV 0.198 whose chi-square interval is about 0.14 to
+    0.36; EN 1990 (k_n 1.92, V_X unknown) on the logs: m_y = -1.0947,
+    s_y = 0.2082, exp(-1.0947 - 1.92 x 0.2082) = 0.224 MPa; on the values
+    0.341 (1 - 1.92 x 0.198) = 0.211 MPa."""
+    x = np.array(EXAMPLE)
+    assert x.mean() == pytest.approx(0.341) and x.std(ddof=1) / x.mean() == pytest.approx(0.198, abs=5e-4)
+    assert [round(v, 2) for v in F.cov_interval(x, method="chi2")] == [0.14, 0.36]
+    lo, hi = F.cov_interval(x)
+    assert lo < 0.198 < hi and hi > F.cov_interval(x, method="chi2")[1]
+    assert round(F.characteristic(x, "lognormal")[0], 3) == 0.224
+    assert round(F.characteristic(x, "normal")[0], 3) == 0.211
+    # V_X known (a documented prior COV of 0.25): u_0.95 sqrt(1.1) on s_y = sqrt(ln(1 + 0.25^2))
+    xk, k = F.characteristic(x, "lognormal", prior_cov=0.25)
+    assert k == pytest.approx(1.6449 * math.sqrt(1.1), abs=1e-4)
+    assert xk == pytest.approx(math.exp(np.log(x).mean() - k * math.sqrt(math.log(1.0625))))
+
+
+# --- goodness of fit and the choice ------------------------------------------------
+@pytest.mark.parametrize("family, draw, labs, resamples", [
+    ("normal", lambda g: g.normal(0.35, 0.07, 10), 200, 99),
+    ("lognormal", lambda g: g.lognormal(math.log(0.35), 0.25, 10), 200, 99),
+    ("weibull", lambda g: 0.4 * g.weibull(5.0, 10), 80, 49),
+])
+def test_anderson_darling_pvalues_are_uniform_under_the_null(family, draw, labs, resamples):
+    """With the parameters refitted on every bootstrap sample the p-value
+    is uniform (to its 1/(B+1) grain) when the family is the data's:
+    Kolmogorov-Smirnov against the uniform, and the count below 0.10."""
+    g = np.random.default_rng(31)
+    p = np.array([F.fit_distributions(draw(g), i, (family,), resamples)[family]["ad_pvalue"] for i in range(labs)])
+    assert stats.kstest(p, "uniform").pvalue > 0.001
+    a, b = limits(labs, math.floor(0.10 * (resamples + 1)) / (resamples + 1))
+    assert a <= np.sum(p <= 0.10 + 1e-12) <= b
+
+
+def test_a_wrong_family_is_rejected_and_aicc_chooses_when_n_tells():
+    x = np.random.default_rng(15).lognormal(0.0, 1.0, 80)
+    fits = F.fit_distributions(x, 1, resamples=199)
+    assert fits["normal"]["ad_pvalue"] < 0.01 < fits["lognormal"]["ad_pvalue"]
+    assert F.choose(fits)["best"] == "lognormal" and not F.choose(fits)["indistinguishable"]
+    small = F.choose(F.fit_distributions(EXAMPLE, 2, resamples=99))
+    assert small["indistinguishable"] and "n too small" in small["note"]
+    # AICc = 2k - 2 ln L + 2k(k+1)/(n-k-1), the normal's ln L at its MLE by hand
+    ll = np.sum(stats.norm.logpdf(EXAMPLE, np.mean(EXAMPLE), np.std(EXAMPLE)))
+    assert F.fit_distributions(EXAMPLE, 0, ("normal",), 99)["normal"]["aicc"] == pytest.approx(4 - 2 * ll + 12 / 7)
+
+
+def test_a_fit_repeats_from_its_seed():
+    assert F.fit_distributions(EXAMPLE, 7, resamples=99) == F.fit_distributions(EXAMPLE, 7, resamples=99)
+
+
+# --- the tests' formulas -------------------------------------------------------------
+def test_bond_wrench_by_hand():
+    """b = 215, d = 102.5 mm; 552 N at 250 mm, the wrench's 50 N at 120 mm,
+    the unit's 25 N: Z = 215 x 102.5^2 / 6 = 376 474 mm^3, A = 22 037.5 mm^2,
+    144 000 / 376 474 - 627 / 22 037.5 = 0.382497 - 0.028452 = 0.354045 MPa."""
+    f = S.bond_wrench_strength(552.0, 0.250, 0.215, 0.1025, 50.0, 0.120, 25.0)
+    assert f == pytest.approx(0.354045e6, rel=1e-5)
+
+
+def _midspan_stress(loads, span, b, d):
+    """Second implementation: reactions by moments about a support, the
+    midspan moment of the left half's free body, over b d^2 / 6."""
+    rb = sum(f * x for f, x in loads) / span
+    ra = sum(f for f, _ in loads) - rb
+    m = ra * span / 2 - sum(f * (span / 2 - x) for f, x in loads if x < span / 2)
+    return m / (b * d ** 2 / 6)
+
+
+def test_flexural_strength_by_statics():
+    assert S.flexural_strength(2000.0, 0.18, 0.1, 0.065) == pytest.approx(
+        _midspan_stress([(2000.0, 0.09)], 0.18, 0.1, 0.065))
+    four = S.flexural_strength(2400.0, 0.18, 0.1, 0.065, L_i=0.06)
+    assert four == pytest.approx(_midspan_stress([(1200.0, 0.06), (1200.0, 0.12)], 0.18, 0.1, 0.065))
+    assert four == pytest.approx(2400.0 * 0.18 / (0.1 * 0.065 ** 2))      # third points: P L / (b d^2)
+
+
+def test_conversion_by_en1992_and_by_hand():
+    assert S.conversion("flexural_bond", 0.100)[0] == pytest.approx(1 / 1.5)       # 1.6 - 100/1000
+    assert S.conversion("modulus_of_rupture", 0.7)[0] == 1.0                      # max(1.6 - 0.7, 1)
+    assert S.conversion("as_is")[0] == 1.0
+    with pytest.raises(InputError):
+        S.conversion("flexural_bond", 0.1, factor=0.8)                           # no source
+    assert S.conversion("flexural_bond", factor=0.8, source="our direct tension tests") == (0.8, "our direct tension tests")
+
+
+# --- reading sheets -----------------------------------------------------------------
+def test_sheets_read_in_si_with_the_screened_rows_reported():
+    bond = S.read_sheet(BOND_SHEET)
+    assert bond["form"] == "bond_wrench" and len(bond["values"]) == 10 and bond["depth"] == pytest.approx(0.1)
+    assert [s["row"] for s in bond["screened"]] == [14] and bond["screened"][0]["failure"] == "unit"
+    F1, e1, F2, e2, F3, b, d = 331.0, 0.3, 45.0, 0.11, 18.0, 0.21, 0.1       # B01, the sheet's first row
+    assert bond["values"][0] == pytest.approx((F1 * e1 + F2 * e2) / (b * d * d / 6) - (F1 + F2 + F3) / (b * d))
+    units = S.read_sheet(UNIT_SHEET)
+    assert units["values"][0] == pytest.approx(3 * 4450.0 * 0.18 / (2 * 0.1 * 0.05 ** 2))
+    assert [s["row"] for s in units["screened"]] == [11]
+    assert bond["sha256"] == hashlib.sha256(open(BOND_SHEET, "rb").read()).hexdigest()
+
+
+def test_a_results_column_in_other_units(tmp_path):
+    lab = S.read_sheet(sheet(tmp_path, "f_tu [N/mm²];note\n3.1;\n3.6;a\n4.0;\n"))
+    assert lab["values"] == pytest.approx([3.1e6, 3.6e6, 4.0e6]) and lab["quantity"] == "f_tu"
+    assert S.read_sheet(sheet(tmp_path, "E [GPa]\n14\n16\n15\n"))["values"] == pytest.approx([14e9, 16e9, 15e9])
+
+
+HEAD = "load [kN],lever arm [mm],width [mm],depth [mm]\n"
+BAD = [
+    ("fewer than 3", "f_tj [MPa]\n0.3\n0.4\n", "lab.csv rows 2, 3, column 'f_tj [MPa]'"),
+    ("a zero load", HEAD + "0.5,250,215,102\n0.6,250,215,102\n0,250,215,102\n", "lab.csv row 4, column 'load [kN]'"),
+    ("a negative width", HEAD + "0.5,250,215,102\n0.6,250,-215,102\n", "lab.csv row 3, column 'width [mm]'"),
+    ("a header without unit", "load,lever arm [mm],width [mm],depth [mm]\n0.5,250,215,102\n", "lab.csv row 1, column 'load'"),
+    ("not a number", "# a comment\nf_tj [MPa]\n0.3\nabc\n0.4\n", "lab.csv row 4, column 'f_tj [MPa]'"),
+    ("two result columns", "f_tj [MPa];x [mm]\n0,5;1\n", "lab.csv row 1, column 'x [mm]'"),
+    ("every specimen screened", "f_tj [MPa],failure\n0.3,invalid\n0.4,outside\n0.5,invalid\n", "lab.csv rows 2-4, column 'failure'"),
+    ("an empty file", "# nothing\n\n", "lab.csv"),
+    ("no rows", "f_tj [MPa]\n", "lab.csv row 1"),
+    ("an unknown failure code", "f_tj [MPa],failure\n0.3,ok\n0.4,maybe\n0.5,\n", "lab.csv row 3, column 'failure'"),
+    ("an empty cell", "f_tj [MPa],failure\n0.3,ok\n,ok\n0.5,\n", "lab.csv row 3, column 'f_tj [MPa]'"),
+    ("a load in mm", "load [mm],lever arm [mm],width [mm],depth [mm]\n0.5,250,215,102\n", "lab.csv row 1, column 'load [mm]'"),
+    ("a misspelt column", HEAD[:-1] + ",weigth [N]\n0.5,250,215,102,3\n", "lab.csv row 1, column 'weigth [N]'"),
+    ("nan", "f_tj [MPa]\n0.3\nnan\n0.4\n", "lab.csv row 3, column 'f_tj [MPa]'"),
+    ("a negative result", "f_tj [MPa]\n0.3\n-0.2\n0.4\n", "lab.csv row 3, column 'f_tj [MPa]'"),
+    ("the axial term wins", HEAD + "0.5,5,215,100\n0.6,250,215,100\n0.5,250,215,100\n", "lab.csv row 2, column 'load [kN]'"),
+]
+
+
+@pytest.mark.parametrize("text, field", [b[1:] for b in BAD], ids=[b[0] for b in BAD])
+def test_bad_sheets_are_refused_naming_row_and_column(tmp_path, text, field):
+    with pytest.raises(InputError) as e:
+        S.read_sheet(sheet(tmp_path, text))
+    assert e.value.field == field, e.value
+
+
+def test_a_decimal_comma_is_named(tmp_path):
+    with pytest.raises(InputError) as e:
+        S.read_sheet(sheet(tmp_path, "load [kN];lever arm [mm];width [mm];depth [mm]\n0,5;250;215;102\n"))
+    assert e.value.field == "lab.csv row 2, column 'load [kN]'" and "decimal comma" in e.value.reason
+
+
+# --- the command: a block the study file takes ----------------------------------------------
+def _fit(capsys, *args):
+    code = main(["fit", *args])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_fit_writes_a_block_that_check_accepts(tmp_path, capsys, monkeypatch):
+    code, out, _ = _fit(capsys, BOND_SHEET, "--name", "bond", "--setting", "materials.joints.ft", "--resamples", "99")
+    assert code == 0
+    block = yaml.safe_load(out)["variables"]["bond"]
+    x = S.read_sheet(BOND_SHEET)["values"] / 1e6
+    assert block["mean"] == f"{x.mean() / 1.5:.4g} MPa"                      # EN 1992's 1/1.5 at 100 mm
+    assert block["cov"] == round(x.std(ddof=1) / x.mean(), 4) and block["provenance"]["n"] == 10
+    assert block["provenance"]["lab"]["mean"] == f"{x.mean():.4g} MPa"
+    assert out == _fit(capsys, BOND_SHEET, "--name", "bond", "--setting", "materials.joints.ft", "--resamples", "99")[1]
+    study = yaml.safe_load(open("config/studies/waal.yaml"))
+    study["scene"] = str(__import__("pathlib").Path("config/scenes/waal.yaml").resolve())
+    study["variables"]["bond"] = block
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump(study))
+    assert main(["check", str(path)]) == 0
+    assert "fitted to config/lab/waal_bond_wrench.csv (10 results" in capsys.readouterr().out
+    copy = tmp_path / "lab.csv"                                                # the data changed after the fit
+    copy.write_text(open(BOND_SHEET).read().replace("B01,331", "B01,332"))
+    block["provenance"]["data"] = str(copy)
+    path.write_text(yaml.safe_dump(study))
+    assert main(["check", str(path)]) == 2
+    assert "provenance.data" in capsys.readouterr().err
+
+
+def test_fit_refuses_before_any_fit(tmp_path, capsys):
+    code, out, err = _fit(capsys, str(sheet(tmp_path, "f_tj [MPa]\n0.3\nx\n0.4\n")), "--name", "b",
+                          "--setting", "materials.joints.ft", "--measured", "as_is")
+    assert code == 2 and "lab.csv row 3, column 'f_tj [MPa]'" in err and out == ""
+    code, _, err = _fit(capsys, str(sheet(tmp_path, "f_tj [MPa]\n0.3\n0.5\n0.4\n")), "--name", "b",
+                        "--setting", "materials.joints.ft")
+    assert code == 2 and "--measured" in err                                 # a results column says what it measured

@@ -1,0 +1,31 @@
+# From a lab sheet to a design value (docs/lab-to-design.md): a study whose
+# variables were fitted to a lab's results (masonrydem fit), its runs
+# re-weighted under the lab's uncertainty.  Only where the workflow config
+# has a 'design' section (config/studies/waal_lab_workflow.yaml).
+
+
+if config.get("design"):
+
+    rule design:
+        """The wallette's characteristic flexural strength per level with an
+        interval that includes the lab tests' uncertainty, its design value,
+        EN 1996-1-1's f_xk2 and AS 3700 beside it."""
+        input:
+            runs=f"{R}/study/runs.parquet",
+            study=config["study"]["file"],
+            lab=[r["data"] for r in plan.study(config).provenance.values()],
+            template=get_template("design"),
+        output:
+            table=report(f"{R}/design/design.csv", caption=get_caption("design"), category="Design value"),
+            page=report(f"{R}/report/tables/design.html", caption=get_caption("design"), category="Design value"),
+            caption=get_caption_file("design"),
+        params:
+            code=get_code("design"),
+            design=config["design"],
+            analysis=plan.analysis(config),
+        log:
+            f"{R}/logs/design/design.log",
+        conda:
+            ENV
+        script:
+            "../scripts/design.py"
