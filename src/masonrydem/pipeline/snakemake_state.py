@@ -42,18 +42,3 @@ def write_record(path, record, root=METADATA):
     where = record_path(path, root)
     where.parent.mkdir(parents=True, exist_ok=True)
     where.write_text(json.dumps(record))
-
-
-def stop_rate_limiter_timers():
-    """Once the workflow has ended: cancel the timers of Snakemake's job
-    rate limiter (profiles/default).  Every scheduling round arms one,
-    to schedule again one timespan (30 s) later, as a non-daemon thread,
-    so that Snakemake waited up to 30 s after its last job before it
-    exited.  Only the rate limiter's timers are cancelled (Snakemake 9's
-    JobScheduler._schedule_reevalutation); under another name they would
-    merely run out."""
-    import threading
-    for timer in threading.enumerate():
-        if isinstance(timer, threading.Timer) and \
-                "_schedule_reevalutation" in getattr(timer.function, "__qualname__", ""):
-            timer.cancel()

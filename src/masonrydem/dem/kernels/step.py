@@ -13,11 +13,13 @@ the on-disk cache keeps one entry per combination actually used.
 import math
 
 from numba import literally, njit
+from numba.extending import overload
 
 from .cells import cell_forces
 from .joints import contact_forces
-from .layout import H_KE, H_MON, H_RATIO, H_STEP, JOINT_BEARING, ST_NONFINITE, ST_OK
+from .layout import H_KE, H_MON, H_RATIO, H_STEP, JOINT_BEARING, ST_NONFINITE, ST_OK, Bodies, Contacts, Nodes, Zones
 from .linalg import add_force, body_vec, rotate_by
+from .static import choose
 from .zones import zone_forces
 
 _CACHE = dict(cache=True, nogil=True, error_model="numpy")
@@ -44,47 +46,50 @@ def _advance_dof(ff, fa, vo, m, fixed, vp, vf, alpha, dt):
 
 
 @njit(**_INLINE)
-def _advance_nodes(gon, lf, grav, vf, alpha, dt, nodes):
-    """Deformable blocks: every node's components as ``_advance_dof``, in
-    two passes over the flat (n x 3) arrays: first the elementwise update
-    of forces, velocities and displacements, without a branch (a
-    prescribed component's velocity is selected, not branched to), which
-    vectorises; then the four sums in the order of the components, the
-    same sums as before to the last bit.  Returns (sum |F| free, sum
-    |applied|, kinetic energy, work rate)."""
+def _advance_nodes(gon, grav, vf, alpha, ctl, nodes, sums):
+    """Deformable blocks: every node's components of every lane as
+    ``_advance_dof``, in two passes over the flat (3 n, S) arrays: first the
+    elementwise update of forces, velocities and displacements, without a
+    branch on a lane's values (a prescribed component's velocity is
+    selected, and whether a component is prescribed is one for all
+    lanes), which vectorises across the lanes; then per lane the four sums
+    in the order of the components.  ``sums`` (4, S): per lane sum |F|
+    free, sum |applied|, kinetic energy, work rate."""
+    nl = nodes.u.shape[2]
     n = nodes.u.shape[0] * 3
-    u, v, f = nodes.u.reshape(n), nodes.v.reshape(n), nodes.f.reshape(n)
-    mass, fixed, vpres, fext = nodes.mass.reshape(n), nodes.fixed.reshape(n), nodes.vpres.reshape(n), \
-        nodes.fext.reshape(n)
+    u, v, f = nodes.u.reshape(n, nl), nodes.v.reshape(n, nl), nodes.f.reshape(n, nl)
+    mass, vpres, fext = nodes.mass.reshape(n, nl), nodes.vpres.reshape(n, nl), nodes.fext.reshape(n, nl)
+    fixed = nodes.fixed.reshape(n)
+    dt, lf = ctl.dt, ctl.lf
     for k in range(n):
-        load = lf * fext[k]
-        if gon:
-            load += nodes.mgrav[k // 3] * grav[k % 3]
-        ff = f[k] + load
-        f[k] = ff
-        vo = v[k]
-        fd = ff - alpha * abs(ff) * ((vo > 0.0) - (vo < 0.0))
-        vv = vf * vpres[k] if fixed[k] else vo + dt * fd / mass[k]
-        v[k] = vv
-        u[k] += dt * vv
-    unbal = 0.0
-    applied = 0.0
-    ke = 0.0
-    wk = 0.0
+        fk = fixed[k]
+        for b in range(nl):
+            load = lf[b] * fext[k, b]
+            if gon:
+                load += nodes.mgrav[k // 3, b] * grav[k % 3]
+            ff = f[k, b] + load
+            f[k, b] = ff
+            vo = v[k, b]
+            fd = ff - alpha * abs(ff) * ((vo > 0.0) - (vo < 0.0))
+            vv = vf[b] * vpres[k, b] if fk else vo + dt[b] * fd / mass[k, b]
+            v[k, b] = vv
+            u[k, b] += dt[b] * vv
+    sums[:, :] = 0.0
     for k in range(n):
-        ff, vv = f[k], v[k]
-        load = lf * fext[k]
-        if gon:
-            load += nodes.mgrav[k // 3] * grav[k % 3]
-        if fixed[k]:
-            applied += abs(ff)
-            wk += -ff * vv
-        else:
-            unbal += abs(ff)
-            applied += abs(load)
-            ke += 0.5 * mass[k] * vv * vv
-            wk += load * vv
-    return unbal, applied, ke, wk
+        fk = fixed[k]
+        for b in range(nl):
+            ff, vv = f[k, b], v[k, b]
+            load = lf[b] * fext[k, b]
+            if gon:
+                load += nodes.mgrav[k // 3, b] * grav[k % 3]
+            if fk:
+                sums[1, b] += abs(ff)
+                sums[3, b] += -ff * vv
+            else:
+                sums[0, b] += abs(ff)
+                sums[1, b] += abs(load)
+                sums[2, b] += 0.5 * mass[k, b] * vv * vv
+                sums[3, b] += load * vv
 
 
 @njit(**_INLINE)
@@ -181,67 +186,144 @@ def _advance_rotation(i, vf, alpha, dt, bodies, unbal, applied, ke, wk):
 
 
 @njit(**_INLINE)
-def _record_step(step, step0, hist, unbal, applied, ke, nodes, mon):
-    """Row ``step`` of the history (layout.H_*): step number, unbalanced-
-    force ratio, kinetic energy, per monitor group the reaction (sum of -F
-    along its component) and the summed displacement.  Returns False if
-    the step is not finite."""
+def lane_nodes(nodes, b):
+    """Lane b's view of the nodes (a run's arrays, as the lane-free
+    kernels take them)."""
+    return Nodes(nodes.x0, nodes.u[:, :, b], nodes.v[:, :, b], nodes.f[:, :, b], nodes.mass[:, :, b],
+                 nodes.mgrav[:, b], nodes.fixed, nodes.vpres[:, :, b], nodes.fext[:, :, b])
+
+
+@njit(**_INLINE)
+def lane_zones(zones, b):
+    return Zones(zones.tets, zones.dn, zones.vol, zones.wt, zones.gptr, zones.gnodes, zones.gnptr,
+                 zones.par[:, :, b], zones.state[:, :, b], zones.stress[:, :, b])
+
+
+@njit(**_INLINE)
+def lane_contacts(sc, b, nl):
+    return Contacts(sc.nodes, sc.cnt, sc.w, sc.body, sc.lever, sc.axes, sc.area, sc.par[b::nl], sc.state[b::nl],
+                    sc.force[b::nl], sc.gptr, sc.gs, sc.gw)
+
+
+@njit(**_INLINE)
+def lane_bodies(bodies, b):
+    return Bodies(bodies.R[:, :, :, b], bodies.om[:, :, b], bodies.mom[:, :, b], bodies.iinv[:, :, :, b],
+                  bodies.rfixed, bodies.ompres[:, :, b], bodies.rlen, bodies.fl[:, :, b], bodies.load_body,
+                  bodies.load_lever, bodies.load_force[:, :, b])
+
+
+@njit(**_INLINE)
+def _record_step(step, b, ctl, hist, sums, nodes, mon):
+    """Row ``step`` of lane b's history (layout.H_*): step number,
+    unbalanced-force ratio, kinetic energy, per monitor group the reaction
+    (sum of -F along its component) and the summed displacement.  Returns
+    False if the step is not finite."""
     ngrp = (hist.shape[1] - H_MON) // 2
-    hist[step, H_STEP] = step0 + step + 1
+    unbal, applied, ke = sums[0, b], sums[1, b], sums[2, b]
+    hist[step, H_STEP, b] = ctl.step0[b] + ctl.k0[b] + step + 1
     if applied > 0.0:
-        hist[step, H_RATIO] = unbal / applied
+        hist[step, H_RATIO, b] = unbal / applied
     else:
-        hist[step, H_RATIO] = 0.0 if unbal == 0.0 else math.inf
-    hist[step, H_KE] = ke
+        hist[step, H_RATIO, b] = 0.0 if unbal == 0.0 else math.inf
+    hist[step, H_KE, b] = ke
     for gi in range(ngrp):
-        hist[step, H_MON + 2 * gi] = 0.0
-        hist[step, H_MON + 1 + 2 * gi] = 0.0
+        hist[step, H_MON + 2 * gi, b] = 0.0
+        hist[step, H_MON + 1 + 2 * gi, b] = 0.0
     f, u = nodes.f, nodes.u
     for k in range(mon.nodes.shape[0]):
         gi = mon.group[k]
         nd = mon.nodes[k]
         d = mon.dof[k]
-        hist[step, H_MON + 2 * gi] -= f[nd, d]
-        hist[step, H_MON + 1 + 2 * gi] += u[nd, d]
-    return math.isfinite(ke) and math.isfinite(hist[step, H_RATIO])
+        hist[step, H_MON + 2 * gi, b] -= f[nd, d, b]
+        hist[step, H_MON + 1 + 2 * gi, b] += u[nd, d, b]
+    return math.isfinite(ke) and math.isfinite(hist[step, H_RATIO, b])
+
+
+@njit(**_INLINE)
+def _rigid_lanes(zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings, bodies,
+                 scratch):
+    """Rigid blocks, lane by lane on the lane's views: the contact forces
+    and moments, the point loads, the bodies' advance; each lane's sums
+    into scratch.sums."""
+    nl = nodes.u.shape[2]
+    sums = scratch.sums
+    bodies.fl[:, :, :] = 0.0
+    bodies.mom[:, :, :] = 0.0
+    for b in range(nl):
+        ln, lb = lane_nodes(nodes, b), lane_bodies(bodies, b)
+        contact_forces(jlaw, 1, large, ctl.dt[b], ln, lb, lane_contacts(joints, b, nl))
+        contact_forces(JOINT_BEARING, 1, large, ctl.dt[b], ln, lb, lane_contacts(bearings, b, nl))
+        _point_loads(ctl.lf[b], lb)
+        sums[0, b], sums[1, b], sums[2, b], sums[3, b] = _advance_bodies(gon, grav, vf[b], alpha, ctl.dt[b], ln, lb)
+
+
+@njit(**_INLINE)
+def _deformable_lanes(zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings, bodies,
+                      scratch):
+    """Deformable blocks: the zones lane by lane on the lane's views, then
+    across the lanes the cells, the sub-contacts and the nodes' advance;
+    each lane's sums into scratch.sums."""
+    nl = nodes.u.shape[2]
+    for b in range(nl):
+        zone_forces(zlaw, ctl.dt[b], lane_nodes(nodes, b), lane_zones(zones, b), scratch)
+    cell_forces(nodes, cells, scratch)
+    contact_forces(jlaw, 0, large, ctl.dt, nodes, bodies, joints)
+    contact_forces(JOINT_BEARING, 0, large, ctl.dt, nodes, bodies, bearings)
+    _advance_nodes(gon, grav, vf, alpha, ctl, nodes, scratch.sums)
+
+
+def lanes_forward(rigid, zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings, bodies,
+                  scratch):
+    """One step's forces and advance of every lane, for rigid or deformable
+    blocks (``rigid`` a literal: static.py)."""
+    raise TypeError("lanes_forward: only callable from compiled code")
+
+
+@overload(lanes_forward, prefer_literal=True)
+def _lanes_forward(rigid, zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings, bodies,
+                   scratch):
+    impl = choose({0: _deformable_lanes, 1: _rigid_lanes}, rigid, "rigid")
+    return (lambda rigid, zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings, bodies,
+            scratch: impl(zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings, bodies,
+                          scratch))
 
 
 @njit(**_CACHE)
 def run_chunk(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist,
               work, scratch):
-    """Advances ``nsteps`` steps (module docstring).
+    """Advances every lane ``nsteps`` steps (module docstring).
 
     Constrained components take their prescribed velocity times the
-    velocity factor min(1, vf0 + (step + 1) dvf) (a linear ramp that starts
-    loading without an inertial shock); the force they carry is their
-    reaction.  The unbalanced-force ratio is sum |F| over free components
-    / sum of |applied| forces (external, gravity, and reactions of the
-    constrained components).  ``work[0]`` accumulates the work done on the
-    model (``work[1]``: its largest value so far): reactions times the
+    velocity factor min(1, vf0 + (step + 1) dvf), step counted from the
+    start of the lane's chunk (a linear ramp that starts loading without
+    an inertial shock); the force they carry is their reaction.  The
+    unbalanced-force ratio is sum |F| over free components / sum of
+    |applied| forces (external, gravity, and reactions of the constrained
+    components).  ``work[0, b]`` accumulates the work done on lane b's
+    model (``work[1, b]``: its largest value so far): reactions times the
     prescribed velocities and applied forces times the free velocities.
-    Returns (status, steps done); status ST_NONFINITE stops at the first
-    step whose kinetic energy is not finite."""
+    The zone law and rigid blocks run lane by lane on the lane's views;
+    the cells, the deformable sub-contacts and the nodes across the lanes.
+    Returns (status, steps done); status ST_NONFINITE stops every lane
+    after the first step at which a lane's kinetic energy or force ratio
+    is not finite (the caller tells which from the history)."""
+    nl = nodes.u.shape[2]
     f = nodes.f
-    dt, alpha, lf, grav = ctl.dt, ctl.alpha, ctl.lf, ctl.gravity
+    alpha, grav = ctl.alpha, ctl.gravity
+    sums, vf = scratch.sums, scratch.vf
     for step in range(nsteps):
-        vf = min(1.0, ctl.vf0 + (step + 1) * ctl.dvf)
-        f[:, :] = 0.0
-        if rigid:
-            bodies.fl[:, :] = 0.0
-            bodies.mom[:, :] = 0.0
-        zone_forces(zlaw, dt, nodes, zones, scratch)
-        cell_forces(nodes, cells, scratch)
-        contact_forces(jlaw, rigid, large, dt, nodes, bodies, joints)
-        contact_forces(JOINT_BEARING, rigid, large, dt, nodes, bodies, bearings)
-        if rigid:
-            _point_loads(lf, bodies)
-            unbal, applied, ke, wk = _advance_bodies(gon, grav, vf, alpha, dt, nodes, bodies)
-        else:
-            unbal, applied, ke, wk = _advance_nodes(gon, lf, grav, vf, alpha, dt, nodes)
-        work[0] += dt * wk
-        if work[0] > work[1]:
-            work[1] = work[0]
-        if not _record_step(step, ctl.step0, hist, unbal, applied, ke, nodes, mon):
+        for b in range(nl):
+            vf[b] = min(1.0, ctl.vf0[b] + (ctl.k0[b] + step + 1) * ctl.dvf[b])
+        f[:, :, :] = 0.0
+        lanes_forward(rigid, zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings,
+                      bodies, scratch)
+        finite = True
+        for b in range(nl):
+            work[0, b] += ctl.dt[b] * sums[3, b]
+            if work[0, b] > work[1, b]:
+                work[1, b] = work[0, b]
+            finite &= _record_step(step, b, ctl, hist, sums, nodes, mon)
+        if not finite:
             return ST_NONFINITE, step + 1
     return ST_OK, nsteps
 
