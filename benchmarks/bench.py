@@ -212,9 +212,12 @@ def lever_times(n=6, levels=(0.0, 0.5)):
     run with warm kernels)."""
     import pandas as pd
     from gate import W, run_one
+    from masonrydem.study.file import load_study
+    from masonrydem.study.settings import record
+    study = load_study("config/studies/willis.yaml")
     table = pd.read_parquet("results/study/samples_nonspatial.parquet")
-    samples = [{k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in table.iloc[i].to_dict().items()}
-               for i in range(n)]
+    samples = [record({k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in table.iloc[i].to_dict().items()},
+                      "wallette", study.variables, study.rules) for i in range(n)]
     run_one(W, TINY + ["numerics.cells=[1, 1, 1]"], samples[0], "nonspatial")     # kernels loaded
     out, base = {}, None
     for name, overrides in LEVERS.items():

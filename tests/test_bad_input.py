@@ -15,6 +15,7 @@ import pytest
 import yaml
 
 from masonrydem import InputError, cli
+from masonrydem.pipeline.check import check_config
 from masonrydem.pipeline import plan
 from masonrydem.specimen import protocol, row as results
 from masonrydem.specimen.files import MAX_BYTES, read_scene
@@ -72,7 +73,7 @@ CASES = [
     ("set_into_list", None, ["--set", "loading.bending.supports_x.0=0.1"], "loading.bending.supports_x.0", "not a section"),
     ("set_without_value", None, ["--set", "numerics.cells"], "--set", "path.to.key=value"),
     ("set_empty_key", None, ["--set", "numerics..cells=3"], "--set", "dotted path"),
-    ("set_unknown_key", None, ["--set", "numerics.celss=[3, 1, 1]"], "numerics", "celss"),
+    ("set_unknown_key", None, ["--set", "numerics.celss=[3, 1, 1]"], "numerics.celss", "did you mean 'cells'?"),
     ("set_alias_bomb", None, ["--set", "materials.per_unit.E=" + _flow_bomb()], "materials.per_unit.E.4", "alias"),
     # models far too large for the memory
     ("too_many_cells", None, ["--set", "numerics.cells=[1001, 1000, 1000]"], "numerics.cells", "GB of memory"),
@@ -271,10 +272,10 @@ def _config():
 
 def test_the_projects_configs_pass_planning():
     from snakemake.utils import update_config
-    plan.check(_config())
+    check_config(_config())
     smoke = _config()
     update_config(smoke, yaml.safe_load(open("config/smoke.yaml")))
-    plan.check(smoke)
+    check_config(smoke)
 
 
 def _set(config, dotted, value):
@@ -304,7 +305,7 @@ def test_a_config_that_makes_runs_invalid_fails_at_planning(key, value, field, w
     else:
         _set(config, key, copy.deepcopy(value))
     with pytest.raises(InputError) as e:
-        plan.check(config)
+        check_config(config)
     assert e.value.field.startswith(field) and words in str(e.value), str(e.value)
 
 

@@ -5,6 +5,7 @@ import pytest
 import yaml
 
 from masonrydem import InputError
+from masonrydem.pipeline.check import check_config
 from masonrydem.pipeline import plan
 
 NUMERICS = ["numerics.cells=[8, 6, 2]", "numerics.subcontact_refine=1", "loading.bending.rate=2.5e-8"]
@@ -142,7 +143,7 @@ def test_the_projects_config_plans_its_modelform_study():
     m = config["modelform"]
     assert len(m["assumptions"]) >= 10 and len(m["precompression_mpa"]) == 3 and len(m["cases"]) == 2
     assert all(a["why"] and a["what"] for a in m["assumptions"])
-    plan.check(config)
+    check_config(config)
 
 
 def test_specimens_and_study_pictures():
@@ -165,7 +166,7 @@ def test_the_config_overrides_the_study_files_samples_seed_and_levels():
     assert smoke.variables == base.variables and smoke.rules == base.rules
     with pytest.raises(InputError) as e:
         plan.study({"study": {"file": "config/studies/willis.yaml", "levels": [0.15]}})
-    assert e.value.field == "study.levels.0" and "did you mean 0.15 MPa?" in str(e.value)
+    assert e.value.field == "study.levels.0" and "did you mean '0.15 MPa'?" in str(e.value)
 
 
 def test_the_projects_config_plans_its_accuracy_study():

@@ -45,6 +45,12 @@ def test_first_masonrydem_run_gives_the_studys_reference(tmp_path):
     row = pd.read_parquet(tmp_path / "ref" / "result.parquet").iloc[0]
     ref = pd.read_csv(ROOT / "results/validation/summary.csv").set_index("run").loc["reference_sv0.0"]
     assert float(f"{row['P_max_kN']:.5g}") == ref["P_max_kN"] and row["steps"] == ref["steps"]
+    # and a strength a wallette of these materials can have: above its
+    # joints' tensile strength (a bed joint's alone, cracking in bending)
+    # and below its units' (sigma = 6 M / (b h^2) of the units themselves)
+    from masonrydem.specimen.scene import build_scene
+    mat = build_scene(ROOT / "config/scenes/willis.yaml").materials
+    assert float(mat.joints.ft.mean()) < row["strength_mpa"] * 1e6 < float(mat.units.ft.mean())
 
 
 SNAKEMAKE = _commands("snakemake")

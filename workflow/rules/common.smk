@@ -7,6 +7,7 @@ from snakemake.utils import validate
 
 import masonrydem
 from masonrydem.pipeline import plan
+from masonrydem.pipeline.check import check_config
 from masonrydem.pipeline.plan import reference_checks, reference_runs
 
 # a stage set to null (by a study's own workflow config, over config.yaml's)
@@ -19,7 +20,7 @@ validate(config, "../../config/schema.yaml", set_default=True)
 # refused at planning, naming the setting as masonrydem check does (the
 # study file's mistakes, NaN or infinite values, overrides the scene refuses)
 try:
-    plan.check(config)
+    check_config(config)
 except masonrydem.InputError as e:
     print(f"masonrydem: invalid input: {e}", file=sys.stderr)
     sys.exit(2)

@@ -38,7 +38,9 @@ rule specimens:
         caption=get_caption_file("specimens"),
     params:
         code=get_code("specimens"),
-        simulations=get_runs(get_specimen_sets, [dict(case=c) for c in plan.specimen_cases(config)]),
+        # the runs' settings and their scenes' contents (each case's own scene)
+        simulations=get_runs(get_specimen_sets, [dict(case=c) for c in plan.specimen_cases(config)],
+                             [get_file_digest(c["scene"]) for c in plan.specimen_cases(config).values()]),
         cases=plan.specimen_cases(config),
     log:
         f"{R}/logs/specimens/summary.log",

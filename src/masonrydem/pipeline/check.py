@@ -24,6 +24,7 @@ from ..specimen.quantities import shown, to_shown
 from ..specimen.scene import SCHEMA as SCENE_SCHEMA
 from ..specimen.scene import build_scene
 from ..specimen.size import model_size
+from . import plan
 
 # seconds per step and item, one core (docs/speed.md, 2026-11-25)
 COST = dict(sub_contacts=15e-9, cells=37e-9, zones_plastic=25e-9, zones_elastic=17e-9, nodes=9e-9)
@@ -105,7 +106,8 @@ def study_summary(study):
     lines += [f"  sweep {study.sweep_name} ({study.sweep_setting}): "
               + ", ".join(_shown(x, unit) for x in study.levels),
               f"  regression: {', '.join(study.features)} on the variant {study.regression_variant or '(none)'}",
-              f"  runs: {study.samples} samples x {_count(len(study.variants), 'variant')} x {len(study.levels)} levels = "
+              f"  runs: {study.samples} samples x {_count(len(study.variants), 'variant')} x "
+              f"{len(study.levels)} levels = "
               f"{runs:,}; each drive at most {drive:,} steps, {_duration(drive * per_step)} on one core (the scene's "
               "estimate at the mean properties), before a precompression's own steps; a run that passes its peak "
               "stops sooner",
@@ -147,3 +149,55 @@ def _duration(seconds):
     if seconds < 7200:
         return f"{seconds / 60:.1f} min"
     return f"{seconds / 3600:.1f} h"
+
+
+# --- a workflow's config, checked at planning -----------------------------------
+def planned_scenes(config):
+    """(where, scene file, overrides) of every kind of simulation the config
+    plans: ``where`` names the config's setting (and the run) it comes from."""
+    scene, numerics = config["scene"], config["numerics"]
+    out = [("numerics", scene, numerics)]
+    out += [(f"study levels ({level})", plan.study(config).scene,
+             plan.effective(numerics, [plan.level_override(config, level)]))
+            for level in plan.study_level_dirs(config)]
+    v = config.get("validation") or {"cases": [], "precompression_mpa": []}
+    out += [(f"validation.cases ({c['name']} at {sv} MPa)", scene, plan.validation_overrides(config, c["name"], sv))
+            for c in v["cases"] for sv in v["precompression_mpa"]]
+    out += [(f"hard_cases ({run})", scene, plan.hard_case_overrides(config, run))
+            for run in plan.hard_case_jobs(config)]
+    out += [(f"reduced ({case}, model {model})", scene, plan.reduced_overrides(config, case, model))
+            for case, model in plan.reduced_runs(config)]
+    out += [(f"specimens ({name})", c["scene"], c["overrides"]) for name, c in plan.specimen_cases(config).items()]
+    out += [(f"modelform ({case} at {sv} MPa, {option})", scene, plan.modelform_overrides(config, case, sv, option))
+            for case, sv, option in plan.modelform_runs(config)]
+    out += [(f"accuracy ({case}, setting {setting})", scene, plan.accuracy_overrides(config, case, setting))
+            for case, setting in plan.accuracy_runs(config)]
+    out += [(f"accuracy.scaling_courses ({n})", scene, plan.scaling_overrides(config, n))
+            for n in plan.scaling_courses(config)]
+    if config.get("accuracy"):
+        out += [(f"accuracy.subsample.fine ({sv} MPa)", scene,
+                 plan.effective(plan.subsample_fine(config), [plan.pressure(sv)]))
+                for sv in config["accuracy"]["subsample"]["precompression_mpa"]]
+    return out
+
+
+def check_config(config):
+    """Refuses, at planning, what config/schema.yaml cannot: a NaN or an
+    infinity anywhere, and overrides that a planned simulation's scene
+    refuses (each distinct
+    scene and overrides validated as the run will be; cheap: no model is
+    built).  Raises InputError naming the config's setting."""
+    from ..errors import check_finite
+    check_finite(config)
+    scenes, done = {}, set()
+    for where, scene, overrides in planned_scenes(config):
+        if (scene, tuple(overrides)) in done:
+            continue
+        done.add((scene, tuple(overrides)))
+        try:
+            if scene not in scenes:
+                scenes[scene] = read_scene(scene)
+            build_scene(scenes[scene], overrides)
+        except InputError as e:
+            raise InputError(where, f"the scene {scene} with the overrides {list(overrides)} is refused: {e}") from None
+    return config

@@ -388,57 +388,7 @@ def reference_checks(config):
     return [(c, s) for c, s in accuracy_runs(config) if s in first]
 
 
-# --- checks at planning -----------------------------------------------------------
-def planned_scenes(config):
-    """(where, scene file, overrides) of every kind of simulation the config
-    plans: ``where`` names the config's setting (and the run) it comes from."""
-    scene, numerics = config["scene"], config["numerics"]
-    out = [("numerics", scene, numerics)]
-    out += [(f"study levels ({level})", study(config).scene, effective(numerics, [level_override(config, level)]))
-            for level in study_level_dirs(config)]
-    v = config.get("validation") or {"cases": [], "precompression_mpa": []}
-    out += [(f"validation.cases ({c['name']} at {sv} MPa)", scene, validation_overrides(config, c["name"], sv))
-            for c in v["cases"] for sv in v["precompression_mpa"]]
-    out += [(f"hard_cases ({run})", scene, hard_case_overrides(config, run)) for run in hard_case_jobs(config)]
-    out += [(f"reduced ({case}, model {model})", scene, reduced_overrides(config, case, model))
-            for case, model in reduced_runs(config)]
-    out += [(f"specimens ({name})", c["scene"], c["overrides"]) for name, c in specimen_cases(config).items()]
-    out += [(f"modelform ({case} at {sv} MPa, {option})", scene, modelform_overrides(config, case, sv, option))
-            for case, sv, option in modelform_runs(config)]
-    out += [(f"accuracy ({case}, setting {setting})", scene, accuracy_overrides(config, case, setting))
-            for case, setting in accuracy_runs(config)]
-    out += [(f"accuracy.scaling_courses ({n})", scene, scaling_overrides(config, n)) for n in scaling_courses(config)]
-    if config.get("accuracy"):
-        out += [(f"accuracy.subsample.fine ({sv} MPa)", scene, effective(subsample_fine(config), [pressure(sv)]))
-                for sv in config["accuracy"]["subsample"]["precompression_mpa"]]
-    return out
-
-
 def pressure(sv_mpa):
     """The override of a precompression level (MPa)."""
     from ..specimen.scene import PRECOMPRESSION
     return f"{PRECOMPRESSION}={float(sv_mpa) * 1e6}"
-
-
-def check(config):
-    """Refuses, at planning, what config/schema.yaml cannot: a NaN or an
-    infinity anywhere, and overrides that a planned simulation's scene
-    refuses (each distinct
-    scene and overrides validated as the run will be; cheap: no model is
-    built).  Raises InputError naming the config's setting."""
-    from ..errors import InputError, check_finite
-    from ..specimen.files import read_scene
-    from ..specimen.scene import build_scene
-    check_finite(config)
-    scenes, done = {}, set()
-    for where, scene, overrides in planned_scenes(config):
-        if (scene, tuple(overrides)) in done:
-            continue
-        done.add((scene, tuple(overrides)))
-        try:
-            if scene not in scenes:
-                scenes[scene] = read_scene(scene)
-            build_scene(scenes[scene], overrides)
-        except InputError as e:
-            raise InputError(where, f"the scene {scene} with the overrides {list(overrides)} is refused: {e}") from None
-    return config

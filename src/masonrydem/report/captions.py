@@ -39,8 +39,7 @@ def html_table(table, title):
 
 
 def _num(x, spec):
-    """A number for a caption; one that is undefined (the COV of one run,
-    the mean of none) says so instead of printing nan."""
+    """A number for a caption; an undefined one (the COV of one run) says so."""
     return "undefined" if pd.isna(x) else format(x, spec)
 
 
@@ -136,18 +135,19 @@ def landing(runs, stats, excluded, level, inputs, report):
         vals = runs[col].dropna().astype(str).unique() if col in runs else []
         return ", ".join(vals) if len(vals) else "not recorded (rows of an older format)"
 
-    names = ", ".join(report["inputs"])
     variants = "; ".join(f"{n}: {what}" for n, what in report["variants"].items())
-    links = "\n".join(f"- {_link(name)}: {what}." for name, what in report["categories"])
+    links = "\n".join(f"- {name if name.isalnum() else f'`{name}`'}_: {what}." for name, what in report["categories"])
     accuracy = any(name == "Accuracy" for name, _ in report["categories"])
     return dict(study=report["study"], rule="=" * len(f"masonrydem: the study {report['study']}"),
                 scene=report["scene"], wallette=report["wallette"], test=report["test"],
                 under=" under vertical precompression" if report["precompression"] else "",
-                inputs=f"its {len(report['inputs'])} random input{'s' if len(report['inputs']) > 1 else ''} ({names})",
+                inputs=f"its {len(report['inputs'])} random input{'s' if len(report['inputs']) > 1 else ''} "
+                       f"({', '.join(report['inputs'])})",
                 variant_list=variants, links=links,
                 accuracy=" (Accuracy_ compares them with finer settings)" if accuracy else "",
                 total=len(runs), variants=runs.variant.nunique(), n_samples=runs["sample"].nunique(),
-                n_levels=len(levels), level=level.name, levels=f"{', '.join(f'{x:g}' for x in levels)} {level.unit}".rstrip(),
+                n_levels=len(levels), level=level.name,
+                levels=f"{', '.join(f'{x:g}' for x in levels)} {level.unit}".rstrip(),
                 blocks=one("blocks"),
                 cells=one("cells"), refine=one("subcontact_refine"), solver=one("solver_version"), excluded=excluded,
                 cpu_h=float(runs["wall_time_s"].sum()) / 3600 if "wall_time_s" in runs else float("nan"),
@@ -157,11 +157,6 @@ def landing(runs, stats, excluded, level, inputs, report):
 FIELDS_NOTE = ("  A variant that draws per unit or joint has field means that hardly vary between its samples (each "
                "field is itself a Latin Hypercube over the wallette's units or joints): its P_max follows the local "
                "values, not the field means, and its correlations with them are close to nothing.")
-
-
-def _link(category):
-    """A report category as a link of the landing page's reStructuredText."""
-    return f"{category}_" if category.replace("_", "").isalnum() else f"`{category}`_"
 
 
 def statistics(runs, stats, corr, inc, level, inputs, report):
