@@ -12,7 +12,8 @@ import pytest
 
 from masonrydem import cli
 from masonrydem.dem import lockstep
-from masonrydem.dem.solver import Batch, Controls, init, lane_key
+from masonrydem.dem.batch import Batch, lane_key
+from masonrydem.dem.solver import Controls, init
 from masonrydem.dem.stops import Stops, stage
 from masonrydem.specimen.build import build
 from masonrydem.specimen.protocol import simulate, simulate_many

@@ -30,8 +30,6 @@ import numpy as np
 import scipy.linalg.cython_blas  # noqa: F401  (the BLAS the kernels call, loaded so that threadpoolctl sees it)
 from threadpoolctl import threadpool_limits
 
-from . import kernels as K
-
 
 class Advance(NamedTuple):
     """A program's request: advance ``state`` ``n`` steps under ``controls``."""
@@ -72,7 +70,7 @@ class _Lane:
         """The program's next chunk, set up in the lane."""
         from .solver import started
         self.state, self.controls, self.n = started(request.state), request.controls, request.n
-        self.rows = np.empty((self.n, K.h_width(len(self.state.assembly.monitor_names))))
+        self.rows = np.empty((self.n, batch.width))
         self.done = 0
         batch.set_lane(self.state, self.controls)
 
@@ -126,19 +124,18 @@ class _Lockstep:
             if self.started_all and sum(lane is not None for lane in self.lanes) <= self.batch.lanes // 2:
                 self.narrow()
             m = min(lane.n - lane.done for lane in self.lanes if lane is not None)
-            _, done, rows = self.batch.advance(m)
+            done, rows, finite = self.batch.advance(m)
             for b, lane in enumerate(self.lanes):
                 if lane is None:
                     continue
                 lane.rows[lane.done:lane.done + done] = rows[:, :, b]
                 lane.done += done
-                last = rows[done - 1, :, b]
-                finite = bool(np.isfinite(last[K.H_KE]) and np.isfinite(last[K.H_RATIO]))
-                if lane.done < lane.n and finite:
+                if lane.done < lane.n and finite[b]:
                     self.batch.ctl.k0[b] = lane.done
                     continue
                 try:
-                    request = lane.program.send(advanced(lane.state, lane.controls, lane.rows[:lane.done], finite))
+                    request = lane.program.send(advanced(lane.state, lane.controls, lane.rows[:lane.done],
+                                                         bool(finite[b])))
                 except StopIteration as end:
                     lane.job.finish(end.value, None)
                     self.fill(b)

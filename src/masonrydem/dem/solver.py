@@ -25,7 +25,6 @@ import numpy as np
 from . import kernels as K
 from ..errors import InputError
 from .history import from_kernel
-from .kernels.step import specialised
 from .stability import DYNAMIC, QUASI_STATIC, critical_step, physical_masses, scaled_masses, time_step
 
 
@@ -113,6 +112,7 @@ class Controls(NamedTuple):
 def init(assembly, numerics):
     """The state of ``assembly`` at rest, with its masses and step: the one
     lane of a batch of one."""
+    from .batch import Batch
     return Batch(assembly, numerics, 1).load(0, assembly)
 
 
@@ -164,155 +164,6 @@ def _lane_arrays(assembly, numerics):
                        rotation_limit=math.inf if a.large else float(numerics.rotation_limit),
                        gravity_on=int(np.any(a.gravity != 0.0)), kernel=None)
     return own, integ
-
-
-# container -> (its name in the Assembly, the kernels' class)
-_CONTAINERS = dict(nodes=("nodes", K.Nodes), zones=("zones", K.Zones), cells=("cells", K.Cells),
-                   joints=("joints", K.Contacts), bearings=("bearings", K.Contacts), bodies=("bodies", K.Bodies))
-
-
-class Batch:
-    """S simulations of one mesh, a lane each, advanced in lock-step by the
-    step kernel: the kernels' containers with a lane axis on each run's
-    own arrays (kernels/layout.py, PER_LANE), the mesh's arrays once.
-    ``load`` puts a run at rest into a lane, ``clear`` empties one (all
-    zero: it computes zeros, cheaply, until loaded again).  Every lane's
-    model must share the first's mesh, topology, constraints, laws and
-    numerics (``fits``)."""
-
-    def __init__(self, assembly, numerics, lanes):
-        self.assembly, self.numerics, self.lanes = assembly, numerics, int(lanes)
-        self.key = lane_key(assembly, numerics)
-        S = self.lanes
-        self.containers = {}
-        for name, (attr, cls) in _CONTAINERS.items():
-            c = getattr(assembly, attr)
-            fields = {}
-            for f in cls._fields:
-                x = getattr(c, f)
-                if f not in K.PER_LANE[cls.__name__]:
-                    fields[f] = x
-                elif cls is K.Contacts:
-                    fields[f] = np.zeros((x.shape[0] * S, x.shape[1]), order="F")
-                else:
-                    fields[f] = np.zeros(x.shape + (S,))
-            self.containers[name] = cls(**fields)
-        a = assembly
-        nt, nc, nk = a.zones.tets.shape[0], a.cells.nodes.shape[0], a.cells.K.shape[0]
-        gsize = np.diff(a.zones.gptr).max() if nt else 1
-        self.scratch = K.Scratch(np.zeros((gsize, 6)), np.zeros(gsize), np.zeros((max(nt, 1), 2), np.int64),
-                                 np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((24, nc * S)), np.zeros((nk, 24, nc * S)),
-                                 np.zeros((4, S)), np.zeros(S))
-        self.work = np.zeros((2, S))
-        self.ctl = K.Controls(np.zeros(S, np.int64), np.zeros(S, np.int64), np.ones(S), np.ones(S), np.ones(S),
-                              np.zeros(S), _checked(numerics)[1], a.gravity)
-        self.kernel = None
-
-    def fits(self, assembly, numerics):
-        """Whether ``assembly`` under ``numerics`` can take a lane."""
-        return lane_key(assembly, numerics) == self.key
-
-    def view(self, name, lane):
-        """Lane ``lane``'s view of the container ``name`` (a run's arrays)."""
-        c = self.containers[name]
-        per = K.PER_LANE[type(c).__name__]
-        if type(c) is K.Contacts:
-            return c._replace(**{f: getattr(c, f)[lane::self.lanes] for f in per})
-        return c._replace(**{f: getattr(c, f)[..., lane] for f in per})
-
-    def load(self, lane, assembly):
-        """The State of ``assembly`` at rest in lane ``lane``."""
-        if assembly is not self.assembly and not self.fits(assembly, self.numerics):
-            raise ValueError("a batch's lanes share one mesh and its numerics: this model differs")
-        own, integ = _lane_arrays(assembly, self.numerics)
-        for name, fields in own.items():
-            view = self.view(name, lane)
-            for f, x in fields.items():
-                getattr(view, f)[...] = x
-        self.work[:, lane] = 0.0
-        if self.kernel is None:
-            self.ctl.dt[:] = integ.dt
-            self.kernel = specialised(self.args(0))
-        return State(assembly, integ._replace(kernel=self.kernel), self, lane)
-
-    def clear(self, lane):
-        """Lane ``lane`` emptied: every array of its own zero."""
-        for name in self.containers:
-            view = self.view(name, lane)
-            for f in K.PER_LANE[type(view).__name__]:
-                getattr(view, f)[...] = 0.0
-        self.work[:, lane] = 0.0
-        self.ctl.lf[lane] = self.ctl.dvf[lane] = self.ctl.vf0[lane] = 0.0
-
-    def narrowed(self, lanes):
-        """A batch of the lanes ``lanes`` of this one (their arrays and
-        controls copied, in that order), sharing its kernel: a batch whose
-        last runs leave lanes empty narrows, since an empty lane costs as
-        much as a busy one."""
-        new = Batch.__new__(Batch)
-        new.__dict__.update(self.__dict__)
-        new.lanes, idx = len(lanes), np.asarray(lanes)
-        new.containers = {}
-        for name, c in self.containers.items():
-            per = K.PER_LANE[type(c).__name__]
-            if type(c) is K.Contacts:
-                n = c.area.shape[0]
-                rows = (np.arange(n)[:, None] * self.lanes + idx[None, :]).ravel()
-                new.containers[name] = c._replace(**{f: np.asfortranarray(getattr(c, f)[rows]) for f in per})
-            else:
-                new.containers[name] = c._replace(**{f: np.ascontiguousarray(getattr(c, f)[..., idx]) for f in per})
-        S, sc = new.lanes, self.scratch
-        new.scratch = sc._replace(U=np.zeros((24, sc.U.shape[1] // self.lanes * S)),
-                                  F=np.zeros((sc.F.shape[0], 24, sc.F.shape[2] // self.lanes * S)),
-                                  sums=np.zeros((4, S)), vf=np.zeros(S))
-        new.work = np.ascontiguousarray(self.work[:, idx])
-        c = self.ctl
-        new.ctl = c._replace(**{f: np.ascontiguousarray(getattr(c, f)[idx])
-                                for f in ("step0", "k0", "dt", "lf", "vf0", "dvf")})
-        return new
-
-    def args(self, n, hist=None):
-        """The step kernel's arguments for ``n`` steps."""
-        a, c = self.assembly, self.containers
-        if hist is None:
-            hist = np.empty((n, K.h_width(len(a.monitor_names)), self.lanes))
-        return (a.zlaw, a.jlaw, int(a.rigid), int(a.large), int(np.any(a.gravity != 0.0)), n, self.ctl, c["nodes"],
-                c["zones"], c["cells"], c["joints"], c["bearings"], c["bodies"], a.monitors, hist, self.work,
-                self.scratch)
-
-    def set_lane(self, state, controls, k0=0):
-        """The kernel's controls of ``state``'s lane for a chunk under
-        ``controls``, ``k0`` of its steps done."""
-        b, ctl = state.lane, self.ctl
-        ctl.step0[b], ctl.k0[b], ctl.dt[b] = state.step, k0, state.integrator.dt
-        ctl.lf[b], ctl.vf0[b], ctl.dvf[b] = float(controls.load_factor), float(state.velocity_factor), _ramp(controls)
-
-    def advance(self, n):
-        """Every lane ``n`` steps (fewer if a step of a lane is not
-        finite): (kernel status, steps done, the history rows (done,
-        columns, S))."""
-        args = self.args(n)
-        code, done = self.kernel(*args)
-        return code, done, args[14][:done]
-
-
-def lane_key(assembly, numerics):
-    """What the lanes of a batch share: the mesh, topology, constraints,
-    monitors and laws of the model, and the numerics (a digest; models of
-    one key fit one batch)."""
-    import hashlib
-    a = assembly
-    h = hashlib.sha256(repr((a.rigid, a.large, a.zlaw, a.jlaw, a.monitor_names, tuple(numerics))).encode())
-    for attr, cls in _CONTAINERS.values():
-        c = getattr(a, attr)
-        for f in cls._fields:
-            if f not in K.PER_LANE[cls.__name__]:
-                x = np.ascontiguousarray(getattr(c, f))
-                h.update(repr((f, x.shape, x.dtype.str)).encode())
-                h.update(x.tobytes())
-    for x in (a.monitors.nodes, a.monitors.dof, a.monitors.group, a.gravity):
-        h.update(np.ascontiguousarray(x).tobytes())
-    return h.hexdigest()
 
 
 def _inertia(mode, k, phys, free, alpha, safety):
@@ -386,8 +237,8 @@ def advance(state, controls, n):
         raise ValueError("advance: a batch of several lanes advances by lockstep.run")
     state = started(state)
     batch.set_lane(state, controls)
-    code, done, rows = batch.advance(n)
-    return advanced(state, controls, np.ascontiguousarray(rows[:, :, 0]), code != K.ST_NONFINITE)
+    done, rows, finite = batch.advance(n)
+    return advanced(state, controls, np.ascontiguousarray(rows[:, :, 0]), bool(finite[0]))
 
 
 def prescribe(state, nodes, velocity):

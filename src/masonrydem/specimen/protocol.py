@@ -16,7 +16,8 @@ import numpy as np
 
 from ..dem.history import PEAK_UNBALANCE, unbalance
 from ..dem import lockstep
-from ..dem.solver import Batch, Controls, init, lane_key, prescribe
+from ..dem.batch import Batch, lane_key
+from ..dem.solver import Controls, init, prescribe
 from .build import build
 from ..dem.stops import Stops, stage
 

@@ -3,7 +3,7 @@
 Modules: ``layout`` (law ids, array columns, the named containers),
 ``linalg`` (3x3 eigen-decomposition, rotations), ``zones`` (block
 material laws and the zone forces), ``cells`` (elastic cells as one
-matrix each), ``joints`` (joint laws and the
+matrix each), ``joint_laws`` (the joint laws), ``joints`` (the
 sub-contact forces), ``step`` (the time step and its entry point).
 
 numba's on-disk cache keys a compiled function on its own source file

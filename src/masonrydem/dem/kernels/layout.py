@@ -195,7 +195,7 @@ class Controls(NamedTuple):
     lf: np.ndarray      # (S,) load factor (applied forces)
     vf0: np.ndarray     # (S,) velocity factor before the chunk ...
     dvf: np.ndarray     # (S,) ... and its increment per step (a ramp, capped at 1)
-    alpha: float        # local damping (one for the batch)
+    alpha: np.ndarray   # (S,) local damping
     gravity: np.ndarray  # (3,)
 
 

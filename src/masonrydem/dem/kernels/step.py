@@ -70,7 +70,7 @@ def _advance_nodes(gon, grav, vf, alpha, ctl, nodes, sums):
             ff = f[k, b] + load
             f[k, b] = ff
             vo = v[k, b]
-            fd = ff - alpha * abs(ff) * ((vo > 0.0) - (vo < 0.0))
+            fd = ff - alpha[b] * abs(ff) * ((vo > 0.0) - (vo < 0.0))
             vv = vf[b] * vpres[k, b] if fk else vo + dt[b] * fd / mass[k, b]
             v[k, b] = vv
             u[k, b] += dt[b] * vv
@@ -254,7 +254,8 @@ def _rigid_lanes(zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cel
         contact_forces(jlaw, 1, large, ctl.dt[b], ln, lb, lane_contacts(joints, b, nl))
         contact_forces(JOINT_BEARING, 1, large, ctl.dt[b], ln, lb, lane_contacts(bearings, b, nl))
         _point_loads(ctl.lf[b], lb)
-        sums[0, b], sums[1, b], sums[2, b], sums[3, b] = _advance_bodies(gon, grav, vf[b], alpha, ctl.dt[b], ln, lb)
+        sums[0, b], sums[1, b], sums[2, b], sums[3, b] = _advance_bodies(gon, grav, vf[b], alpha[b], ctl.dt[b], ln,
+                                                                         lb)
 
 
 @njit(**_INLINE)
