@@ -154,7 +154,7 @@ def test_report_opens_on_the_study(smoke, tmp_path):
     names = zipfile.ZipFile(out).namelist()
     assert any(n.endswith("choice.csv") for n in names) and any(n.endswith("statistics.csv") for n in names)
     landing = (smoke / "report" / "workflow.rst").read_text()
-    assert "32 simulations" in landing and "2 x 8 Latin Hypercube samples" in landing
+    assert "32 simulations" in landing and "2 variants x 8 Latin Hypercube samples" in landing
     rows = [x.split() for x in landing.splitlines() if re.match(r"(non)?spatial +[0-9.]+ +[0-9.]+ ", x)]
     assert len(rows) == 4, landing
     # its numbers are statistics.csv's (mode 'all'), as rounded on the page

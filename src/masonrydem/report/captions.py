@@ -135,7 +135,7 @@ def landing(runs, stats, excluded, level, inputs, report):
         vals = runs[col].dropna().astype(str).unique() if col in runs else []
         return ", ".join(vals) if len(vals) else "not recorded (rows of an older format)"
 
-    variants = "; ".join(f"{n}: {what}" for n, what in report["variants"].items())
+    variants, n_var = "; ".join(f"{n}: {what}" for n, what in report["variants"].items()), runs.variant.nunique()
     links = "\n".join(f"- {name if name.isalnum() else f'`{name}`'}_: {what}." for name, what in report["categories"])
     accuracy = any(name == "Accuracy" for name, _ in report["categories"])
     return dict(study=report["study"], rule="=" * len(f"masonrydem: the study {report['study']}"),
@@ -145,7 +145,7 @@ def landing(runs, stats, excluded, level, inputs, report):
                        f"({', '.join(report['inputs'])})",
                 variant_list=variants, links=links,
                 accuracy=" (Accuracy_ compares them with finer settings)" if accuracy else "",
-                total=len(runs), variants=runs.variant.nunique(), n_samples=runs["sample"].nunique(),
+                total=len(runs), variants=f"{n_var} variant{'s' * (n_var != 1)}", n_samples=runs["sample"].nunique(),
                 n_levels=len(levels), level=level.name,
                 levels=f"{', '.join(f'{x:g}' for x in levels)} {level.unit}".rstrip(),
                 blocks=one("blocks"),
