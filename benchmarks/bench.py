@@ -56,6 +56,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 from masonrydem.dem import kernels as K  # noqa: E402
 from masonrydem.dem.kernels.cells import cell_forces  # noqa: E402
 from masonrydem.dem.kernels.joints import contact_forces  # noqa: E402
+from masonrydem.dem.kernels import lanes  # noqa: E402
 from masonrydem.dem.kernels.step import lane_nodes, lane_zones  # noqa: E402
 from masonrydem.dem.kernels.zones import zone_forces  # noqa: E402
 from masonrydem.specimen.scene import build_scene  # noqa: E402
@@ -106,29 +107,57 @@ def fresh_process_times(repeat=3):
     return np.median(np.array(out), axis=0)
 
 
-def _kernels(zlaw, jlaw):
+def _kernels(zlaw, jlaw, nl):
     """The zone, cell and joint kernels of these laws, as the step kernel
-    compiles them (the law ids are constants of the wrappers), over every
-    lane of a batch, each run ``n`` times per call: a call from Python
-    costs tens of microseconds (its containers are typed and unboxed),
-    which the loop amortises.  The zones run lane by lane, as in a step."""
+    compiles them (the law ids and lanes are constants of the wrappers),
+    over every lane of a batch (nl lanes: one, the kernels of one run;
+    more, those of kernels/lanes.py), each run ``n`` times per call: a
+    call from Python costs tens of microseconds (its containers are typed
+    and unboxed), which the loop amortises.  The zones run lane by lane,
+    as in a step."""
     @njit(error_model="numpy")
     def zones(n, dt, nodes, z, scratch):
         for _ in range(n):
-            for b in range(nodes.u.shape[2]):
+            for b in range(nl):
                 zone_forces(zlaw, dt, lane_nodes(nodes, b), lane_zones(z, b), scratch)
 
-    @njit(error_model="numpy")
-    def cells(n, nodes, c, scratch):
-        for _ in range(n):
-            cell_forces(nodes, c, scratch)
+    if nl == 1:
+        @njit(error_model="numpy")
+        def cells(n, nodes, c, scratch):
+            one = _one(nodes, c)
+            for _ in range(n):
+                cell_forces(one[0], one[1], scratch)
 
-    @njit(error_model="numpy")
-    def joints(n, dt, nodes, bodies, sc):
-        for _ in range(n):
-            contact_forces(jlaw, 0, 0, dt, nodes, bodies, sc)
+        @njit(error_model="numpy")
+        def joints(n, dt, nodes, bodies, sc):
+            one = _one(nodes, None)
+            for _ in range(n):
+                contact_forces(jlaw, 0, 0, dt[0], one[0], bodies, sc)
+    else:
+        @njit(error_model="numpy")
+        def cells(n, nodes, c, scratch):
+            for _ in range(n):
+                lanes.cell_forces(nodes, c, scratch, nl)
+
+        @njit(error_model="numpy")
+        def joints(n, dt, nodes, bodies, sc):
+            for _ in range(n):
+                lanes.contact_forces(jlaw, dt, nodes, sc, nl)
 
     return zones, cells, joints
+
+
+@njit(error_model="numpy")
+def _one(nodes, cells):
+    """A batch of one's nodes and cells as one run's arrays."""
+    n = nodes.u.shape[0]
+    one = K.Nodes(nodes.x0, nodes.u.reshape(n, 3), nodes.v.reshape(n, 3), nodes.f.reshape(n, 3),
+                  nodes.mass.reshape(n, 3), nodes.mgrav.reshape(n), nodes.fixed, nodes.vpres.reshape(n, 3),
+                  nodes.fext.reshape(n, 3))
+    if cells is None:
+        return one, None
+    return one, K.Cells(cells.nodes, cells.kind, cells.scale.reshape(cells.scale.shape[0]), cells.K, cells.gptr,
+                        cells.gc, cells.ga)
 
 
 def best_of(fn, n, repeat=5):
@@ -159,9 +188,9 @@ def kernel_times(overrides, steps=6000, ramp=2000, lanes=LANES):
     out = dict(steps_per_s=round(1.0 / t_step, 1), tetrahedra=int(nt), cells=int(nc), subcontacts=int(nsc),
                damaged_subcontacts=int((s.joints.state[:, K.JS_D] > 0).sum()),
                cracked_zones=int((zone_damage(s) > 0).sum()) if nt else 0)
-    zone_kernel, cell_kernel, joint_kernel = _kernels(s.assembly.zlaw, s.assembly.jlaw)
     per = {}
     for S in lanes:
+        zone_kernel, cell_kernel, joint_kernel = _kernels(s.assembly.zlaw, s.assembly.jlaw, S)
         b = s.batch.narrowed([s.lane] * S)        # S copies of the loaded state
         c, scratch = b.containers, b.scratch
         nodes = c["nodes"]._replace(f=np.zeros_like(c["nodes"].f))

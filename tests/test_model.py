@@ -230,5 +230,5 @@ def test_joint_forces_gathered_per_node_add_what_a_scatter_adds():
             for k in range(4, 4 + sc.cnt[s, 1]):
                 want[sc.nodes[s, k], :, b] -= sc.w[s, k] * force[s * lanes + b]
     got = f0.copy()
-    njit(lambda f, a, b, c, d: gather_forces(f, a, b, c, d))(got, sc.gptr, sc.gs, sc.gw, force)
+    njit(lambda f, a, b, c, d: gather_forces(f, a, b, c, d, 3))(got, sc.gptr, sc.gs, sc.gw, force)
     assert np.array_equal(got, want)

@@ -17,17 +17,23 @@ _CONTAINERS = dict(nodes=("nodes", K.Nodes), zones=("zones", K.Zones), cells=("c
                    joints=("joints", K.Contacts), bearings=("bearings", K.Contacts), bodies=("bodies", K.Bodies))
 
 
+def width(runs):
+    """The lanes of a batch for ``runs`` runs: one, or a multiple of eight
+    (the kernels run eight lanes at a time: kernels/lanes.py)."""
+    return 1 if runs <= 1 else 8 * -(-int(runs) // 8)
+
+
 class Batch:
     """S simulations of one mesh, a lane each, advanced in lock-step by the
     step kernel: the kernels' containers with a lane axis on each run's
-    own arrays (kernels/layout.py, PER_LANE), the mesh's arrays once.
-    ``load`` puts a run at rest into a lane, ``clear`` empties one (all
-    zero: it computes zeros, cheaply, until loaded again).  Every lane's
-    model must share the first's mesh, topology, constraints, laws and
-    numerics (``fits``)."""
+    own arrays (kernels/layout.py, PER_LANE), the mesh's arrays once.  S
+    is one, or ``lanes`` rounded up to a multiple of eight.  ``load`` puts a
+    run at rest into a lane, ``clear`` empties one (at rest, without loads:
+    it computes zeros until loaded again).  Every lane's model must share
+    the first's mesh, topology, constraints, laws and numerics (``fits``)."""
 
     def __init__(self, assembly, numerics, lanes):
-        self.assembly, self.numerics, self.lanes = assembly, numerics, int(lanes)
+        self.assembly, self.numerics, self.lanes = assembly, numerics, width(lanes)
         self.key = lane_key(assembly, numerics)
         S = self.lanes
         self.containers = {}
@@ -47,8 +53,8 @@ class Batch:
         nt, nc, nk = a.zones.tets.shape[0], a.cells.nodes.shape[0], a.cells.K.shape[0]
         gsize = np.diff(a.zones.gptr).max() if nt else 1
         self.scratch = K.Scratch(np.zeros((gsize, 6)), np.zeros(gsize), np.zeros((max(nt, 1), 2), np.int64),
-                                 np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((24, nc * S)), np.zeros((nk, 24, nc * S)),
-                                 np.zeros((4, S)), np.zeros(S))
+                                 np.zeros((3, 3)), np.zeros((3, 3)), *_cell_space(nc, nk, S), np.zeros((4, S)),
+                                 np.zeros(S))
         self.work = np.zeros((2, S))
         self.ctl = K.Controls(np.zeros(S, np.int64), np.zeros(S, np.int64), np.ones(S), np.ones(S), np.ones(S),
                               np.zeros(S), np.full(S, _checked(numerics)[1]), a.gravity)
@@ -83,22 +89,24 @@ class Batch:
         return State(assembly, integ._replace(kernel=self.kernel), self, lane)
 
     def clear(self, lane):
-        """Lane ``lane`` emptied: every array of its own zero."""
-        for name in self.containers:
-            view = self.view(name, lane)
-            for f in K.PER_LANE[type(view).__name__]:
-                getattr(view, f)[...] = 0.0
-        self.work[:, lane] = 0.0
+        """Lane ``lane`` emptied: the first model at rest in it, without
+        loads or prescribed velocities (every value it computes stays zero)."""
+        self.load(lane, self.assembly)
+        nodes, bodies = self.view("nodes", lane), self.view("bodies", lane)
+        for x in (nodes.fext, nodes.vpres, nodes.mgrav, bodies.ompres, bodies.load_force):
+            x[...] = 0.0
         self.ctl.lf[lane] = self.ctl.dvf[lane] = self.ctl.vf0[lane] = 0.0
 
     def narrowed(self, lanes):
         """A batch of the lanes ``lanes`` of this one (their arrays and
-        controls copied, in that order), sharing its kernel: a batch whose
-        last runs leave lanes empty narrows, since an empty lane costs as
-        much as a busy one."""
+        controls copied, in that order; width(len(lanes)) lanes, the rest
+        empty): a batch whose last runs leave lanes empty narrows, since an
+        empty lane costs as much as a busy one."""
         new = Batch.__new__(Batch)
         new.__dict__.update(self.__dict__)
-        new.lanes, idx = len(lanes), np.asarray(lanes)
+        S = width(len(lanes))
+        idx = np.asarray(list(lanes) + [lanes[0]] * (S - len(lanes)))
+        new.lanes = S
         new.containers = {}
         for name, c in self.containers.items():
             per = K.PER_LANE[type(c).__name__]
@@ -108,14 +116,17 @@ class Batch:
                 new.containers[name] = c._replace(**{f: np.asfortranarray(getattr(c, f)[rows]) for f in per})
             else:
                 new.containers[name] = c._replace(**{f: np.ascontiguousarray(getattr(c, f)[..., idx]) for f in per})
-        S, sc = new.lanes, self.scratch
-        new.scratch = sc._replace(U=np.zeros((24, sc.U.shape[1] // self.lanes * S)),
-                                  F=np.zeros((sc.F.shape[0], 24, sc.F.shape[2] // self.lanes * S)),
+        a, sc = self.assembly, self.scratch
+        new.scratch = sc._replace(**dict(zip(("U", "F"), _cell_space(a.cells.nodes.shape[0], a.cells.K.shape[0], S))),
                                   sums=np.zeros((4, S)), vf=np.zeros(S))
         new.work = np.ascontiguousarray(self.work[:, idx])
         c = self.ctl
         new.ctl = c._replace(**{f: np.ascontiguousarray(getattr(c, f)[idx])
                                 for f in ("step0", "k0", "dt", "lf", "vf0", "dvf", "alpha")})
+        if S != self.lanes:         # the kernel is compiled for its number of lanes
+            new.kernel = specialised(new.args(0))
+        for b in range(len(lanes), S):
+            new.clear(b)
         return new
 
     def args(self, n, hist=None):
@@ -123,8 +134,8 @@ class Batch:
         a, c = self.assembly, self.containers
         if hist is None:
             hist = np.empty((n, self.width, self.lanes))
-        return (a.zlaw, a.jlaw, int(a.rigid), int(a.large), int(np.any(a.gravity != 0.0)), n, self.ctl, c["nodes"],
-                c["zones"], c["cells"], c["joints"], c["bearings"], c["bodies"], a.monitors, hist, self.work,
+        return (a.zlaw, a.jlaw, int(a.rigid), int(a.large), int(np.any(a.gravity != 0.0)), self.lanes, n, self.ctl,
+                c["nodes"], c["zones"], c["cells"], c["joints"], c["bearings"], c["bodies"], a.monitors, hist, self.work,
                 self.scratch)
 
     def set_lane(self, state, controls, k0=0):
@@ -140,8 +151,17 @@ class Batch:
         each lane's last step was finite)."""
         args = self.args(n)
         _, done = self.kernel(*args)
-        rows = args[14][:done]
+        rows = args[15][:done]
         return done, rows, np.isfinite(rows[-1, K.H_KE]) & np.isfinite(rows[-1, K.H_RATIO])
+
+
+def _cell_space(nc, nk, lanes):
+    """The cells' work space (scratch U and F): a run's rows U (nc, 24),
+    F (nk, nc, 24) for a batch of one (cells.py), columns U (24, nc S),
+    F (nk, 24, nc S) across lanes (lanes.py)."""
+    if lanes == 1:
+        return np.zeros((nc, 24)), np.zeros((nk, nc, 24))
+    return np.zeros((24, nc * lanes)), np.zeros((nk, 24, nc * lanes))
 
 
 def lane_key(assembly, numerics):

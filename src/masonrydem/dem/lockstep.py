@@ -30,6 +30,8 @@ import numpy as np
 import scipy.linalg.cython_blas  # noqa: F401  (the BLAS the kernels call, loaded so that threadpoolctl sees it)
 from threadpoolctl import threadpool_limits
 
+from .batch import width
+
 
 class Advance(NamedTuple):
     """A program's request: advance ``state`` ``n`` steps under ``controls``."""
@@ -78,8 +80,8 @@ class _Lane:
 def run(batch, jobs):
     """Runs ``jobs`` (an iterable of Job, each a model that ``batch.fits``)
     in the lanes of ``batch`` until every one has finished.  When the jobs
-    are all started and half the lanes or more are empty, the batch
-    narrows to its busy lanes (an empty lane costs as much as a busy one)."""
+    are all started and the busy lanes fit a narrower batch (batch.width),
+    the batch narrows to them: an empty lane costs as much as a busy one."""
     with threadpool_limits(1, user_api="blas"):
         _Lockstep(batch, jobs).run()
 
@@ -112,8 +114,8 @@ class _Lockstep:
     def narrow(self):
         busy = [b for b, lane in enumerate(self.lanes) if lane is not None]
         self.batch = self.batch.narrowed(busy)
-        self.lanes = [self.lanes[b] for b in busy]
-        for b, lane in enumerate(self.lanes):
+        self.lanes = [self.lanes[b] for b in busy] + [None] * (self.batch.lanes - len(busy))
+        for b, lane in enumerate(self.lanes[:len(busy)]):
             lane.state = lane.state._replace(batch=self.batch, lane=b)
 
     def run(self):
@@ -121,7 +123,8 @@ class _Lockstep:
         for b in range(self.batch.lanes):
             self.fill(b)
         while any(self.lanes):
-            if self.started_all and sum(lane is not None for lane in self.lanes) <= self.batch.lanes // 2:
+            busy = sum(lane is not None for lane in self.lanes)
+            if self.started_all and width(busy) < self.batch.lanes:
                 self.narrow()
             m = min(lane.n - lane.done for lane in self.lanes if lane is not None)
             done, rows, finite = self.batch.advance(m)

@@ -1,8 +1,9 @@
-"""The forces of the sub-contacts: each lane's relative displacement
-increments gathered from its nodes (or rigid bodies), the joint law
-(joint_laws.py) on every sub-contact and lane, and the tractions spread
+"""The forces of the sub-contacts of one simulation: its relative
+displacement increments gathered from its nodes (or rigid bodies), the
+joint law (joint_laws.py) on every sub-contact, and the tractions spread
 back as forces.  Deformable and rigid blocks differ only in how a
-sub-contact's relative velocity is gathered and its force spread.
+sub-contact's relative velocity is gathered and its force spread.  (The
+same across the lanes of a batch: lanes.py.)
 """
 from numba import njit
 from numba.extending import overload
@@ -54,85 +55,74 @@ def traction_force(s, js, area, nx, ny, nz, ax, ay, az, bx, by, bz):
 
 @njit(**_INLINE)
 def _deformable_contacts(jlaw, dt, nodes, sc):
-    """Deformable blocks, every lane: the sub-contact's point moves with
-    the nodes of each side, interpolated with the weights w[s]; its force
-    is spread with the same weights (so the virtual work is consistent).
-    ``dt`` (S,): each lane's step.
+    """Deformable blocks: the sub-contact's point moves with the nodes of
+    each side, interpolated with the weights w[s]; its force is spread with
+    the same weights (so the virtual work is consistent).
 
     Four loops over the sub-contacts: (1) each gathers its relative
     velocity from the used slots of each side (cnt: a slot left out has
-    weight 0 and adds exactly nothing), a node's S lanes one contiguous
-    vector, and stores its displacement increments (in the work space
-    ``force``, row s S + b); (2) the law over every sub-contact and lane,
-    with no indirect access: over the Fortran-ordered parameters and state
-    numba emits vector code; (3) each stores its force; (4) each node
+    weight 0 and adds exactly nothing) and stores its displacement
+    increments (in the work space ``force``); (2) the law, with no indirect
+    access: over the Fortran-ordered parameters and state numba emits
+    vector code, half the time of a scalar law whose branches the yielding
+    sub-contacts mispredict; (3) each stores its force; (4) each node
     gathers the forces of its sub-contacts (``contacts.with_gather``), in
-    sub-contact order.  Each lane's values are those of one loop that runs
-    the law and scatters each force to its nodes, bit for bit (the vector
-    code does the same IEEE operations lane by lane)."""
+    sub-contact order.  The values are those of one loop that runs the law
+    and scatters each force to its nodes, bit for bit (the vector code does
+    the same IEEE operations lane by lane)."""
     v = nodes.v
-    nl = v.shape[2]
     w, ix, axes, cnt = sc.w, sc.nodes, sc.axes, sc.cnt
     jp, js, area, work = sc.par, sc.state, sc.area, sc.force
     n = area.shape[0]
     for s in range(n):
-        r0 = s * nl
-        for b in range(nl):
-            work[r0 + b, 0] = 0.0
-            work[r0 + b, 1] = 0.0
-            work[r0 + b, 2] = 0.0
+        rx = 0.0
+        ry = 0.0
+        rz = 0.0
         for k in range(cnt[s, 0]):
             nd = ix[s, k]
             wk = w[s, k]
-            for b in range(nl):
-                work[r0 + b, 0] -= wk * v[nd, 0, b]
-                work[r0 + b, 1] -= wk * v[nd, 1, b]
-                work[r0 + b, 2] -= wk * v[nd, 2, b]
+            rx -= wk * v[nd, 0]
+            ry -= wk * v[nd, 1]
+            rz -= wk * v[nd, 2]
         for k in range(4, 4 + cnt[s, 1]):
             nd = ix[s, k]
             wk = w[s, k]
-            for b in range(nl):
-                work[r0 + b, 0] += wk * v[nd, 0, b]
-                work[r0 + b, 1] += wk * v[nd, 1, b]
-                work[r0 + b, 2] += wk * v[nd, 2, b]
-        nx, ny, nz, ax, ay, az = axes[s, 0], axes[s, 1], axes[s, 2], axes[s, 3], axes[s, 4], axes[s, 5]
-        bx, by, bz = axes[s, 6], axes[s, 7], axes[s, 8]
-        for b in range(nl):
-            work[r0 + b, 0], work[r0 + b, 1], work[r0 + b, 2] = local_increments(
-                dt[b], work[r0 + b, 0], work[r0 + b, 1], work[r0 + b, 2], nx, ny, nz, ax, ay, az, bx, by, bz)
-    for i in range(n * nl):
-        subcontact_law(jlaw, i, work[i, 0], work[i, 1], work[i, 2], jp, js)
+            rx += wk * v[nd, 0]
+            ry += wk * v[nd, 1]
+            rz += wk * v[nd, 2]
+        work[s, 0], work[s, 1], work[s, 2] = local_increments(
+            dt, rx, ry, rz, axes[s, 0], axes[s, 1], axes[s, 2], axes[s, 3], axes[s, 4], axes[s, 5],
+            axes[s, 6], axes[s, 7], axes[s, 8])
     for s in range(n):
-        r0 = s * nl
-        ar = area[s]
-        nx, ny, nz, ax, ay, az = axes[s, 0], axes[s, 1], axes[s, 2], axes[s, 3], axes[s, 4], axes[s, 5]
-        bx, by, bz = axes[s, 6], axes[s, 7], axes[s, 8]
-        for b in range(nl):
-            sn = js[r0 + b, JS_SN]
-            s1 = js[r0 + b, JS_T1]
-            s2 = js[r0 + b, JS_T2]
-            work[r0 + b, 0] = ar * (sn * nx + s1 * ax + s2 * bx)
-            work[r0 + b, 1] = ar * (sn * ny + s1 * ay + s2 * by)
-            work[r0 + b, 2] = ar * (sn * nz + s1 * az + s2 * bz)
+        subcontact_law(jlaw, s, work[s, 0], work[s, 1], work[s, 2], jp, js)
+    for s in range(n):
+        work[s, 0], work[s, 1], work[s, 2] = traction_force(
+            s, js, area, axes[s, 0], axes[s, 1], axes[s, 2], axes[s, 3], axes[s, 4], axes[s, 5],
+            axes[s, 6], axes[s, 7], axes[s, 8])
     gather_forces(nodes.f, sc.gptr, sc.gs, sc.gw, work)
 
 
 @njit(**_INLINE)
 def gather_forces(f, gptr, gs, gw, force):
     """f[i] += sum_j gw[j] force[gs[j]] over j in gptr[i]:gptr[i + 1], in
-    that order (``contacts.with_gather``), in every lane: f (n, 3, S),
-    force row s S + b."""
-    nl = f.shape[2]
+    that order (``contacts.with_gather``)."""
     for i in range(gptr.shape[0] - 1):
         j0 = gptr[i]
         j1 = gptr[i + 1]
+        if j0 == j1:
+            continue
+        fx = f[i, 0]
+        fy = f[i, 1]
+        fz = f[i, 2]
         for j in range(j0, j1):
-            r0 = gs[j] * nl
+            s = gs[j]
             wj = gw[j]
-            for b in range(nl):
-                f[i, 0, b] += wj * force[r0 + b, 0]
-                f[i, 1, b] += wj * force[r0 + b, 1]
-                f[i, 2, b] += wj * force[r0 + b, 2]
+            fx += wj * force[s, 0]
+            fy += wj * force[s, 1]
+            fz += wj * force[s, 2]
+        f[i, 0] = fx
+        f[i, 1] = fy
+        f[i, 2] = fz
 
 
 @njit(**_INLINE)

@@ -111,11 +111,17 @@ class Zones(NamedTuple):
 class Cells(NamedTuple):
     """Elastic hexahedral cells computed as linear (elements.py): cell c
     adds f = -scale[c] K[kind[c]] u over its corners nodes[c] (corner
-    i + 2 j + 4 k at offset (i, j, k); degree of freedom 3 corner + d)."""
+    i + 2 j + 4 k at offset (i, j, k); degree of freedom 3 corner + d).
+    Across lanes each node gathers its cells' forces (CSR, in cell order:
+    the sums a scatter over the cells makes): node i takes corner ga[j] of
+    cell gc[j] for j in gptr[i]:gptr[i + 1]."""
     nodes: np.ndarray   # (nc, 8)
     kind: np.ndarray    # (nc,)
     scale: np.ndarray   # (nc, S) the cell's Young's modulus
     K: np.ndarray       # (nk, 24, 24) per cell shape, for E = 1
+    gptr: np.ndarray    # (nodes + 1,)
+    gc: np.ndarray      # cells ...
+    ga: np.ndarray      # ... and their corners
 
 
 class Contacts(NamedTuple):
@@ -205,9 +211,10 @@ def empty_zones():
                  z((0, N_ZP)), z((0, N_ZS)), z((0, 6)))
 
 
-def empty_cells():
+def empty_cells(n_nodes=0):
     z = np.zeros
-    return Cells(z((0, 8), np.int64), z(0, np.int64), z(0), z((0, 24, 24)))
+    return Cells(z((0, 8), np.int64), z(0, np.int64), z(0), z((0, 24, 24)), z(n_nodes + 1, np.int64), z(0, np.int64),
+                 z(0, np.int64))
 
 
 def empty_bodies():

@@ -5,19 +5,25 @@ non-viscous damping (Itasca FLAC3D/3DEC), for deformable and rigid blocks.
     v(t+dt/2) = v(t-dt/2) + dt/m (F - alpha |F| sgn(v(t-dt/2))),
     u(t+dt)   = u(t) + dt v(t+dt/2)                   (per component)
 
-``run_chunk_entry`` specialises ``run_chunk`` on literal law ids and
-flags (zone law, joint law, rigid blocks, large displacements, gravity),
-so a model compiles and runs only the laws and effects it declares, and
-the on-disk cache keeps one entry per combination actually used.
+``run_chunk`` advances every lane of a batch (kernels/layout.py): a batch
+of one runs the kernels of one simulation (``_one_lane``: cells.py,
+joints.py, zones.py and the node update here), a wider one those of
+lanes.py, eight lanes at a time, with the zones and rigid blocks lane by
+lane on each lane's views.  ``run_chunk_entry`` specialises ``run_chunk``
+on literal law ids, flags and lanes (zone law, joint law, rigid blocks,
+large displacements, gravity, the batch's width), so a model compiles and
+runs only the laws and effects it declares, and the on-disk cache keeps
+one entry per combination actually used.
 """
 import math
 
 from numba import literally, njit
 from numba.extending import overload
 
+from . import lanes as L
 from .cells import cell_forces
 from .joints import contact_forces
-from .layout import H_KE, H_MON, H_RATIO, H_STEP, JOINT_BEARING, ST_NONFINITE, ST_OK, Bodies, Contacts, Nodes, Zones
+from .layout import H_KE, H_MON, H_RATIO, H_STEP, JOINT_BEARING, ST_NONFINITE, ST_OK, Bodies, Cells, Contacts, Nodes, Zones
 from .linalg import add_force, body_vec, rotate_by
 from .static import choose
 from .zones import zone_forces
@@ -46,50 +52,47 @@ def _advance_dof(ff, fa, vo, m, fixed, vp, vf, alpha, dt):
 
 
 @njit(**_INLINE)
-def _advance_nodes(gon, grav, vf, alpha, ctl, nodes, sums):
-    """Deformable blocks: every node's components of every lane as
-    ``_advance_dof``, in two passes over the flat (3 n, S) arrays: first the
-    elementwise update of forces, velocities and displacements, without a
-    branch on a lane's values (a prescribed component's velocity is
-    selected, and whether a component is prescribed is one for all
-    lanes), which vectorises across the lanes; then per lane the four sums
-    in the order of the components.  ``sums`` (4, S): per lane sum |F|
-    free, sum |applied|, kinetic energy, work rate."""
-    nl = nodes.u.shape[2]
+def _advance_nodes(gon, lf, grav, vf, alpha, dt, nodes):
+    """Deformable blocks: every node's components as ``_advance_dof``, in
+    two passes over the flat (n x 3) arrays: first the elementwise update
+    of forces, velocities and displacements, without a branch (a
+    prescribed component's velocity is selected, not branched to), which
+    vectorises; then the four sums in the order of the components, the
+    same sums as before to the last bit.  Returns (sum |F| free, sum
+    |applied|, kinetic energy, work rate)."""
     n = nodes.u.shape[0] * 3
-    u, v, f = nodes.u.reshape(n, nl), nodes.v.reshape(n, nl), nodes.f.reshape(n, nl)
-    mass, vpres, fext = nodes.mass.reshape(n, nl), nodes.vpres.reshape(n, nl), nodes.fext.reshape(n, nl)
-    fixed = nodes.fixed.reshape(n)
-    dt, lf = ctl.dt, ctl.lf
+    u, v, f = nodes.u.reshape(n), nodes.v.reshape(n), nodes.f.reshape(n)
+    mass, fixed, vpres, fext = nodes.mass.reshape(n), nodes.fixed.reshape(n), nodes.vpres.reshape(n), \
+        nodes.fext.reshape(n)
     for k in range(n):
-        fk = fixed[k]
-        for b in range(nl):
-            load = lf[b] * fext[k, b]
-            if gon:
-                load += nodes.mgrav[k // 3, b] * grav[k % 3]
-            ff = f[k, b] + load
-            f[k, b] = ff
-            vo = v[k, b]
-            fd = ff - alpha[b] * abs(ff) * ((vo > 0.0) - (vo < 0.0))
-            vv = vf[b] * vpres[k, b] if fk else vo + dt[b] * fd / mass[k, b]
-            v[k, b] = vv
-            u[k, b] += dt[b] * vv
-    sums[:, :] = 0.0
+        load = lf * fext[k]
+        if gon:
+            load += nodes.mgrav[k // 3] * grav[k % 3]
+        ff = f[k] + load
+        f[k] = ff
+        vo = v[k]
+        fd = ff - alpha * abs(ff) * ((vo > 0.0) - (vo < 0.0))
+        vv = vf * vpres[k] if fixed[k] else vo + dt * fd / mass[k]
+        v[k] = vv
+        u[k] += dt * vv
+    unbal = 0.0
+    applied = 0.0
+    ke = 0.0
+    wk = 0.0
     for k in range(n):
-        fk = fixed[k]
-        for b in range(nl):
-            ff, vv = f[k, b], v[k, b]
-            load = lf[b] * fext[k, b]
-            if gon:
-                load += nodes.mgrav[k // 3, b] * grav[k % 3]
-            if fk:
-                sums[1, b] += abs(ff)
-                sums[3, b] += -ff * vv
-            else:
-                sums[0, b] += abs(ff)
-                sums[1, b] += abs(load)
-                sums[2, b] += 0.5 * mass[k, b] * vv * vv
-                sums[3, b] += load * vv
+        ff, vv = f[k], v[k]
+        load = lf * fext[k]
+        if gon:
+            load += nodes.mgrav[k // 3] * grav[k % 3]
+        if fixed[k]:
+            applied += abs(ff)
+            wk += -ff * vv
+        else:
+            unbal += abs(ff)
+            applied += abs(load)
+            ke += 0.5 * mass[k] * vv * vv
+            wk += load * vv
+    return unbal, applied, ke, wk
 
 
 @njit(**_INLINE)
@@ -186,6 +189,32 @@ def _advance_rotation(i, vf, alpha, dt, bodies, unbal, applied, ke, wk):
 
 
 @njit(**_INLINE)
+def _record_step(step, step0, hist, unbal, applied, ke, nodes, mon):
+    """Row ``step`` of the history (layout.H_*): step number, unbalanced-
+    force ratio, kinetic energy, per monitor group the reaction (sum of -F
+    along its component) and the summed displacement.  Returns False if
+    the step is not finite."""
+    ngrp = (hist.shape[1] - H_MON) // 2
+    hist[step, H_STEP] = step0 + step + 1
+    if applied > 0.0:
+        hist[step, H_RATIO] = unbal / applied
+    else:
+        hist[step, H_RATIO] = 0.0 if unbal == 0.0 else math.inf
+    hist[step, H_KE] = ke
+    for gi in range(ngrp):
+        hist[step, H_MON + 2 * gi] = 0.0
+        hist[step, H_MON + 1 + 2 * gi] = 0.0
+    f, u = nodes.f, nodes.u
+    for k in range(mon.nodes.shape[0]):
+        gi = mon.group[k]
+        nd = mon.nodes[k]
+        d = mon.dof[k]
+        hist[step, H_MON + 2 * gi] -= f[nd, d]
+        hist[step, H_MON + 1 + 2 * gi] += u[nd, d]
+    return math.isfinite(ke) and math.isfinite(hist[step, H_RATIO])
+
+
+@njit(**_INLINE)
 def lane_nodes(nodes, b):
     """Lane b's view of the nodes (a run's arrays, as the lane-free
     kernels take them)."""
@@ -213,7 +242,7 @@ def lane_bodies(bodies, b):
 
 
 @njit(**_INLINE)
-def _record_step(step, b, ctl, hist, sums, nodes, mon):
+def _record_lane(step, b, ctl, hist, sums, nodes, mon):
     """Row ``step`` of lane b's history (layout.H_*): step number,
     unbalanced-force ratio, kinetic energy, per monitor group the reaction
     (sum of -F along its component) and the summed displacement.  Returns
@@ -240,8 +269,60 @@ def _record_step(step, b, ctl, hist, sums, nodes, mon):
 
 
 @njit(**_INLINE)
+def _one(nodes, zones, cells, joints, bearings, bodies):
+    """The containers of a batch of one as one simulation's arrays (the
+    lane axis, of length one, dropped: C-contiguous views)."""
+    n, nt, nb, nk = nodes.u.shape[0], zones.par.shape[0], bodies.R.shape[0], bodies.load_force.shape[0]
+    return (Nodes(nodes.x0, nodes.u.reshape(n, 3), nodes.v.reshape(n, 3), nodes.f.reshape(n, 3),
+                  nodes.mass.reshape(n, 3), nodes.mgrav.reshape(n), nodes.fixed, nodes.vpres.reshape(n, 3),
+                  nodes.fext.reshape(n, 3)),
+            Zones(zones.tets, zones.dn, zones.vol, zones.wt, zones.gptr, zones.gnodes, zones.gnptr,
+                  zones.par.reshape(nt, zones.par.shape[1]), zones.state.reshape(nt, zones.state.shape[1]),
+                  zones.stress.reshape(nt, 6)),
+            Cells(cells.nodes, cells.kind, cells.scale.reshape(cells.scale.shape[0]), cells.K, cells.gptr, cells.gc,
+                  cells.ga),
+            joints, bearings,
+            Bodies(bodies.R.reshape(nb, 3, 3), bodies.om.reshape(nb, 3), bodies.mom.reshape(nb, 3),
+                   bodies.iinv.reshape(nb, 3, 3), bodies.rfixed, bodies.ompres.reshape(nb, 3), bodies.rlen,
+                   bodies.fl.reshape(nb, 3), bodies.load_body, bodies.load_lever, bodies.load_force.reshape(nk, 3)))
+
+
+@njit(**_INLINE)
+def _one_lane(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist,
+              work, scratch):
+    """A batch of one: the steps of one simulation (module docstring)."""
+    nodes, zones, cells, joints, bearings, bodies = _one(nodes, zones, cells, joints, bearings, bodies)
+    hist = hist.reshape(hist.shape[0], hist.shape[1])
+    work = work.reshape(2)
+    f = nodes.f
+    dt, alpha, lf, grav, vf0, dvf, step0 = ctl.dt[0], ctl.alpha[0], ctl.lf[0], ctl.gravity, ctl.vf0[0], ctl.dvf[0], \
+        ctl.step0[0] + ctl.k0[0]
+    for step in range(nsteps):
+        vf = min(1.0, vf0 + (ctl.k0[0] + step + 1) * dvf)
+        f[:, :] = 0.0
+        if rigid:
+            bodies.fl[:, :] = 0.0
+            bodies.mom[:, :] = 0.0
+        zone_forces(zlaw, dt, nodes, zones, scratch)
+        cell_forces(nodes, cells, scratch)
+        contact_forces(jlaw, rigid, large, dt, nodes, bodies, joints)
+        contact_forces(JOINT_BEARING, rigid, large, dt, nodes, bodies, bearings)
+        if rigid:
+            _point_loads(lf, bodies)
+            unbal, applied, ke, wk = _advance_bodies(gon, grav, vf, alpha, dt, nodes, bodies)
+        else:
+            unbal, applied, ke, wk = _advance_nodes(gon, lf, grav, vf, alpha, dt, nodes)
+        work[0] += dt * wk
+        if work[0] > work[1]:
+            work[1] = work[0]
+        if not _record_step(step, step0, hist, unbal, applied, ke, nodes, mon):
+            return ST_NONFINITE, step + 1
+    return ST_OK, nsteps
+
+
+@njit(**_INLINE)
 def _rigid_lanes(zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings, bodies,
-                 scratch):
+                 scratch, nl):
     """Rigid blocks, lane by lane on the lane's views: the contact forces
     and moments, the point loads, the bodies' advance; each lane's sums
     into scratch.sums."""
@@ -260,21 +341,20 @@ def _rigid_lanes(zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cel
 
 @njit(**_INLINE)
 def _deformable_lanes(zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings, bodies,
-                      scratch):
+                      scratch, nl):
     """Deformable blocks: the zones lane by lane on the lane's views, then
-    across the lanes the cells, the sub-contacts and the nodes' advance;
-    each lane's sums into scratch.sums."""
-    nl = nodes.u.shape[2]
+    across the lanes the cells, the sub-contacts and the nodes' advance
+    (lanes.py); each lane's sums into scratch.sums."""
     for b in range(nl):
         zone_forces(zlaw, ctl.dt[b], lane_nodes(nodes, b), lane_zones(zones, b), scratch)
-    cell_forces(nodes, cells, scratch)
-    contact_forces(jlaw, 0, large, ctl.dt, nodes, bodies, joints)
-    contact_forces(JOINT_BEARING, 0, large, ctl.dt, nodes, bodies, bearings)
-    _advance_nodes(gon, grav, vf, alpha, ctl, nodes, scratch.sums)
+    L.cell_forces(nodes, cells, scratch, nl)
+    L.contact_forces(jlaw, ctl.dt, nodes, joints, nl)
+    L.contact_forces(JOINT_BEARING, ctl.dt, nodes, bearings, nl)
+    L.advance_nodes(gon, grav, vf, ctl, nodes, scratch.sums, nl)
 
 
 def lanes_forward(rigid, zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings, bodies,
-                  scratch):
+                  scratch, nl):
     """One step's forces and advance of every lane, for rigid or deformable
     blocks (``rigid`` a literal: static.py)."""
     raise TypeError("lanes_forward: only callable from compiled code")
@@ -282,15 +362,39 @@ def lanes_forward(rigid, zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zo
 
 @overload(lanes_forward, prefer_literal=True)
 def _lanes_forward(rigid, zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings, bodies,
-                   scratch):
+                   scratch, nl):
     impl = choose({0: _deformable_lanes, 1: _rigid_lanes}, rigid, "rigid")
     return (lambda rigid, zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings, bodies,
-            scratch: impl(zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings, bodies,
-                          scratch))
+            scratch, nl: impl(zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings,
+                              bodies, scratch, nl))
+
+
+@njit(**_INLINE)
+def _lanes(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist,
+           work, scratch):
+    """A batch of 8, 16, ... lanes (module docstring)."""
+    f = nodes.f
+    alpha, grav = ctl.alpha, ctl.gravity
+    sums, vf = scratch.sums, scratch.vf
+    for step in range(nsteps):
+        for b in range(nl):
+            vf[b] = min(1.0, ctl.vf0[b] + (ctl.k0[b] + step + 1) * ctl.dvf[b])
+        f[:, :, :] = 0.0
+        lanes_forward(rigid, zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings,
+                      bodies, scratch, nl)
+        finite = True
+        for b in range(nl):
+            work[0, b] += ctl.dt[b] * sums[3, b]
+            if work[0, b] > work[1, b]:
+                work[1, b] = work[0, b]
+            finite &= _record_lane(step, b, ctl, hist, sums, nodes, mon)
+        if not finite:
+            return ST_NONFINITE, step + 1
+    return ST_OK, nsteps
 
 
 @njit(**_CACHE)
-def run_chunk(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist,
+def run_chunk(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist,
               work, scratch):
     """Advances every lane ``nsteps`` steps (module docstring).
 
@@ -303,54 +407,43 @@ def run_chunk(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, j
     components).  ``work[0, b]`` accumulates the work done on lane b's
     model (``work[1, b]``: its largest value so far): reactions times the
     prescribed velocities and applied forces times the free velocities.
-    The zone law and rigid blocks run lane by lane on the lane's views;
-    the cells, the deformable sub-contacts and the nodes across the lanes.
     Returns (status, steps done); status ST_NONFINITE stops every lane
     after the first step at which a lane's kinetic energy or force ratio
-    is not finite (the caller tells which from the history)."""
-    nl = nodes.u.shape[2]
-    f = nodes.f
-    alpha, grav = ctl.alpha, ctl.gravity
-    sums, vf = scratch.sums, scratch.vf
-    for step in range(nsteps):
-        for b in range(nl):
-            vf[b] = min(1.0, ctl.vf0[b] + (ctl.k0[b] + step + 1) * ctl.dvf[b])
-        f[:, :, :] = 0.0
-        lanes_forward(rigid, zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cells, joints, bearings,
-                      bodies, scratch)
-        finite = True
-        for b in range(nl):
-            work[0, b] += ctl.dt[b] * sums[3, b]
-            if work[0, b] > work[1, b]:
-                work[1, b] = work[0, b]
-            finite &= _record_step(step, b, ctl, hist, sums, nodes, mon)
-        if not finite:
-            return ST_NONFINITE, step + 1
-    return ST_OK, nsteps
+    is not finite (the caller tells which from the history).  ``nl``: the
+    lanes, a literal, 1 or a multiple of 8."""
+    if nl == 1:
+        return _one_lane(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies,
+                         mon, hist, work, scratch)
+    return _lanes(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
+                  hist, work, scratch)
 
 
 @njit(**_CACHE)
-def run_chunk_entry(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
+def run_chunk_entry(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
                     hist, work, scratch):
-    """Entry point: ``run_chunk`` specialised on the literal law ids and
-    flags, so only the laws and effects a model uses are compiled (and
-    cached)."""
-    return run_chunk(literally(zlaw), literally(jlaw), literally(rigid), literally(large), literally(gon), nsteps,
-                     ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist, work, scratch)
+    """Entry point: ``run_chunk`` specialised on the literal law ids, flags
+    and lanes, so only the laws and effects a model uses are compiled (and
+    cached), for the batch's width."""
+    return run_chunk(literally(zlaw), literally(jlaw), literally(rigid), literally(large), literally(gon),
+                     literally(nl), nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist, work, scratch)
+
+
+LITERALS = 6        # the leading arguments that are literals
 
 
 def specialised(args):
     """The compiled specialisation of ``run_chunk_entry`` for the literal law
-    ids and flags (and the argument types) of ``args``, its arguments, as a
-    function that calls it directly.  Called through ``run_chunk_entry``,
-    numba resolves the literals anew at every call (about 5 ms: 0.2 s of a
-    study run's 40 chunks); the specialisation found once runs at once.
-    Falls back to ``run_chunk_entry`` if none matches."""
+    ids, flags and lanes (and the argument types) of ``args``, its
+    arguments, as a function that calls it directly.  Called through
+    ``run_chunk_entry``, numba resolves the literals anew at every call
+    (about 5 ms: 0.2 s of a study run's 40 chunks); the specialisation
+    found once runs at once.  Falls back to ``run_chunk_entry`` if none
+    matches."""
     from numba import typeof
-    run_chunk_entry(*args[:5], 0, *args[6:])          # compiled (or loaded from the cache) for these literals
-    literals = tuple(int(x) for x in args[:5])
-    types = tuple(typeof(x) for x in args[5:])
+    run_chunk_entry(*args[:LITERALS], 0, *args[LITERALS + 1:])  # compiled (or loaded from the cache) for these literals
+    literals = tuple(int(x) for x in args[:LITERALS])
+    types = tuple(typeof(x) for x in args[LITERALS:])
     for sig, cres in run_chunk_entry.overloads.items():
-        if tuple(getattr(t, "literal_value", None) for t in sig[:5]) == literals and tuple(sig[5:]) == types:
+        if tuple(getattr(t, "literal_value", None) for t in sig[:LITERALS]) == literals and tuple(sig[LITERALS:]) == types:
             return cres.entry_point
     return run_chunk_entry
