@@ -290,8 +290,8 @@ def parser():
     run.add_argument("--samples", help="a study's samples file (JSON): run one of its samples")
     run.add_argument("--sample", type=int, action="append", default=[],
                      help="with --samples: a sample's number (several: a batch)")
-    run.add_argument("--lanes", type=int, default=16,
-                     help="with --samples: the runs advanced in lock-step at a time (default 16)")
+    run.add_argument("--lanes", type=int, default=8,
+                     help="with --samples: the runs advanced in lock-step at a time (default 8)")
     run.add_argument("--variant", help="with --samples: the sample's variant (as the study file names it)")
     run.add_argument("--exit-zero", action="store_true",
                      help="exit 0 whenever the row is written (its status says how the run ended)")
