@@ -208,6 +208,13 @@ def face_point(axis, coord, P, Q):
     return pt
 
 
+def face_points(axis, coord, P, Q):
+    """``face_point`` at the points (P[i], Q[i]): (n, 3)."""
+    pts = np.zeros((len(P), 3))
+    pts[:, axis], pts[:, (axis + 1) % 3], pts[:, (axis + 2) % 3] = coord, P, Q
+    return pts
+
+
 def local_axes(axis, sign):
     """(n, t1, t2) of a face normal to ``axis``, n = sign e_axis, as 9 numbers."""
     n = np.zeros(3)

@@ -150,7 +150,7 @@ def landing(runs, stats, excluded, level, inputs, report):
                 levels=f"{', '.join(f'{x:g}' for x in levels)} {level.unit}".rstrip(),
                 blocks=one("blocks"),
                 cells=one("cells"), refine=one("subcontact_refine"), solver=one("solver_version"), excluded=excluded,
-                cpu_h=float((runs["wall_time_s"] / runs.get("lanes", 1)).sum()) / 3600,
+                cpu_h=float(np.sum(runs.get("wall_time_s", np.nan) / runs.get("lanes", 1))) / 3600,
                 table="\n".join([rule, line(head), rule, *map(line, rows), rule]))
 
 

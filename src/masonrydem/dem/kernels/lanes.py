@@ -242,14 +242,14 @@ def _load(lf, fext, mg, g, gon):
 
 @njit(**_INLINE)
 def _velocity(ff, vo, m, vp, vf, alpha, dt, fixed):
-    """The component's new velocity (step._advance_nodes)."""
+    """The component's new velocity (advance._advance_nodes)."""
     fd = ff - alpha * abs(ff) * ((vo > 0.0) - (vo < 0.0))
     return vf * vp if fixed else vo + dt * fd / m
 
 
 @njit(**_INLINE)
 def advance_nodes(gon, grav, vf, ctl, nodes, sums, nl):
-    """step._advance_nodes across the lanes, eight at a time: the forces,
+    """advance._advance_nodes across the lanes, eight at a time: the forces,
     velocities and displacements of every component, then per lane the
     four sums in the order of the components, held in registers (sums
     (4, S): sum |F| free, sum |applied|, kinetic energy, work rate)."""
