@@ -46,12 +46,6 @@ rule all:
         get_design_outputs(),
 
 
-# the records of what made each result, for a clone (workflow/rules/provenance.smk);
-# then no wait for the job rate limiter's timers (common.smk)
+# the records of what made each result, for a clone (workflow/rules/provenance.smk)
 onsuccess:
     save_provenance()
-    stop_rate_limiter_timers()
-
-
-onerror:
-    stop_rate_limiter_timers()

@@ -9,6 +9,10 @@ Prints one JSON line; per unit model (under "models"):
   ns_per_subcontact_step  joint kernel time / (sub-contacts x steps)
   steps_per_s             whole time steps per second (zones or cells,
                           joints, bearings, node update, histories)
+  lanes                   per number of lanes S of a batch (1, 8 and 32,
+                          each lane a copy of the state): the kernels'
+                          ns per item, lane and step (ns_per_*_step), and
+                          step_us, a whole step of the batch per lane (us)
 and, at the top level, the elasto-plastic model's figures (the source
 paper's model), its figures in brick failure, and
   kernel_load_s           a fresh process: time of the solver's set-up
@@ -42,6 +46,7 @@ import sys
 import time
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")      # one thread: the cells' products too
 
 import numpy as np  # noqa: E402
 from numba import njit  # noqa: E402
@@ -51,6 +56,8 @@ sys.path.insert(0, os.path.dirname(__file__))
 from masonrydem.dem import kernels as K  # noqa: E402
 from masonrydem.dem.kernels.cells import cell_forces  # noqa: E402
 from masonrydem.dem.kernels.joints import contact_forces  # noqa: E402
+from masonrydem.dem.kernels import lanes  # noqa: E402
+from masonrydem.dem.kernels.step import lane_nodes, lane_zones  # noqa: E402
 from masonrydem.dem.kernels.zones import zone_forces  # noqa: E402
 from masonrydem.specimen.scene import build_scene  # noqa: E402
 from masonrydem.dem.solver import Controls, init, prescribe, zone_damage  # noqa: E402
@@ -100,27 +107,57 @@ def fresh_process_times(repeat=3):
     return np.median(np.array(out), axis=0)
 
 
-def _kernels(zlaw, jlaw):
+def _kernels(zlaw, jlaw, nl):
     """The zone, cell and joint kernels of these laws, as the step kernel
-    compiles them (the law ids are constants of the wrappers), each run
-    ``n`` times per call: a call from Python costs tens of microseconds
-    (its containers are typed and unboxed), which the loop amortises."""
+    compiles them (the law ids and lanes are constants of the wrappers),
+    over every lane of a batch (nl lanes: one, the kernels of one run;
+    more, those of kernels/lanes.py), each run ``n`` times per call: a
+    call from Python costs tens of microseconds (its containers are typed
+    and unboxed), which the loop amortises.  The zones run lane by lane,
+    as in a step."""
     @njit(error_model="numpy")
     def zones(n, dt, nodes, z, scratch):
         for _ in range(n):
-            zone_forces(zlaw, dt, nodes, z, scratch)
+            for b in range(nl):
+                zone_forces(zlaw, dt, lane_nodes(nodes, b), lane_zones(z, b), scratch)
 
-    @njit(error_model="numpy")
-    def cells(n, nodes, c, scratch):
-        for _ in range(n):
-            cell_forces(nodes, c, scratch)
+    if nl == 1:
+        @njit(error_model="numpy")
+        def cells(n, nodes, c, scratch):
+            one = _one(nodes, c)
+            for _ in range(n):
+                cell_forces(one[0], one[1], scratch)
 
-    @njit(error_model="numpy")
-    def joints(n, dt, nodes, bodies, sc):
-        for _ in range(n):
-            contact_forces(jlaw, 0, 0, dt, nodes, bodies, sc)
+        @njit(error_model="numpy")
+        def joints(n, dt, nodes, bodies, sc):
+            one = _one(nodes, None)
+            for _ in range(n):
+                contact_forces(jlaw, 0, 0, dt[0], one[0], bodies, sc)
+    else:
+        @njit(error_model="numpy")
+        def cells(n, nodes, c, scratch):
+            for _ in range(n):
+                lanes.cell_forces(nodes, c, scratch, nl)
+
+        @njit(error_model="numpy")
+        def joints(n, dt, nodes, bodies, sc):
+            for _ in range(n):
+                lanes.contact_forces(jlaw, dt, nodes, sc, nl)
 
     return zones, cells, joints
+
+
+@njit(error_model="numpy")
+def _one(nodes, cells):
+    """A batch of one's nodes and cells as one run's arrays."""
+    n = nodes.u.shape[0]
+    one = K.Nodes(nodes.x0, nodes.u.reshape(n, 3), nodes.v.reshape(n, 3), nodes.f.reshape(n, 3),
+                  nodes.mass.reshape(n, 3), nodes.mgrav.reshape(n), nodes.fixed, nodes.vpres.reshape(n, 3),
+                  nodes.fext.reshape(n, 3))
+    if cells is None:
+        return one, None
+    return one, K.Cells(cells.nodes, cells.kind, cells.scale.reshape(cells.scale.shape[0]), cells.K, cells.gptr,
+                        cells.gc, cells.ga)
 
 
 def best_of(fn, n, repeat=5):
@@ -133,36 +170,51 @@ def best_of(fn, n, repeat=5):
     return best / n
 
 
-def kernel_times(overrides, steps=6000, ramp=2000):
+LANES = (1, 8, 32)
+
+
+def kernel_times(overrides, steps=6000, ramp=2000, lanes=LANES):
     """Loads the wallette of SCENE (with ``overrides``) for ``steps`` steps,
-    then times the zone, cell and joint kernels on copies of that state and
-    a stretch of whole steps."""
+    then times whole steps as a stage runs them and, in batches of each
+    number of ``lanes`` (every lane a copy of that state), the zone, cell
+    and joint kernels and whole steps of the batch: per item, lane and
+    step (ns) and per lane and step (us)."""
     sp = build(build_scene(SCENE, overrides))
     s = prescribe(init(sp.assembly, sp.scene.numerics), sp.drive, [0.0, 5e-8, 0.0])
     s, _, _ = run(s, steps, controls=Controls(ramp_steps=ramp), chunk=500)
-    nodes = s.nodes._replace(v=s.nodes.v.copy(), f=np.zeros_like(s.nodes.f))
-    zs = s.zones._replace(state=s.zones.state.copy(), stress=s.zones.stress.copy())
-    js = s.joints._replace(state=np.copy(s.joints.state))
-    cs = s.assembly.cells
-    zone_kernel, cell_kernel, joint_kernel = _kernels(s.assembly.zlaw, s.assembly.jlaw)
-    nt, nc, nsc = zs.tets.shape[0], cs.nodes.shape[0], js.area.shape[0]
+    nt, nc, nsc = s.zones.tets.shape[0], s.assembly.cells.nodes.shape[0], s.joints.area.shape[0]
     # whole steps as a stage runs them: 500 steps, their histories and peaks
     t_step = best_of(lambda: run(s, 500, chunk=500), 1, repeat=6) / 500
     out = dict(steps_per_s=round(1.0 / t_step, 1), tetrahedra=int(nt), cells=int(nc), subcontacts=int(nsc),
-               damaged_subcontacts=int((s.joints.state[:, K.JS_D] > 0).sum()))
+               damaged_subcontacts=int((s.joints.state[:, K.JS_D] > 0).sum()),
+               cracked_zones=int((zone_damage(s) > 0).sum()) if nt else 0)
+    per = {}
+    for S in lanes:
+        zone_kernel, cell_kernel, joint_kernel = _kernels(s.assembly.zlaw, s.assembly.jlaw, S)
+        b = s.batch.narrowed([s.lane] * S)        # S copies of the loaded state
+        c, scratch = b.containers, b.scratch
+        nodes = c["nodes"]._replace(f=np.zeros_like(c["nodes"].f))
+        dt = np.full(S, 1.0)
+        t = dict(step_us=round(best_of(lambda: b.advance(500), 1, repeat=4) / (500 * S) * 1e6, 2))
+        if nt:
+            zone_kernel(1, 1.0, nodes, c["zones"], scratch)
+            t_zone = best_of(lambda: zone_kernel(50, 1.0, nodes, c["zones"], scratch), 1) / 50
+            t["ns_per_tet_step"] = round(t_zone / (nt * S) * 1e9, 1)
+        if nc:
+            cell_kernel(1, nodes, c["cells"], scratch)
+            t_cell = best_of(lambda: cell_kernel(200, nodes, c["cells"], scratch), 1) / 200
+            t["ns_per_cell_step"] = round(t_cell / (nc * S) * 1e9, 1)
+        if nsc:
+            joint_kernel(1, dt, nodes, c["bodies"], c["joints"])
+            reps = max(20, 2000 // S)
+            t_joint = best_of(lambda: joint_kernel(reps, dt, nodes, c["bodies"], c["joints"]), 1) / reps
+            t["ns_per_subcontact_step"] = round(t_joint / (nsc * S) * 1e9, 1)
+        per[S] = t
+    one = per[lanes[0]]
+    out.update({k: v for k, v in one.items() if k != "step_us"})
     if nt:
-        zone_kernel(1, 1e-3, nodes, zs, s.scratch)
-        t_zone = best_of(lambda: zone_kernel(200, 1e-3, nodes, zs, s.scratch), 1) / 200
-        out.update(ns_per_tet_step=round(t_zone / nt * 1e9, 1), ns_per_cell_step=round(t_zone / nt * 10e9, 1),
-                   cracked_zones=int((zone_damage(s) > 0).sum()), share_zones=round(t_zone / t_step, 3))
-    if nc:
-        cell_kernel(1, nodes, cs, s.scratch)
-        t_cell = best_of(lambda: cell_kernel(200, nodes, cs, s.scratch), 1) / 200
-        out.update(ns_per_cell_step=round(t_cell / nc * 1e9, 1), share_cells=round(t_cell / t_step, 3))
-    if nsc:
-        joint_kernel(1, 1e-3, nodes, s.bodies, js)
-        t_joint = best_of(lambda: joint_kernel(2000, 1e-3, nodes, s.bodies, js), 1) / 2000
-        out.update(ns_per_subcontact_step=round(t_joint / nsc * 1e9, 1), share_joints=round(t_joint / t_step, 3))
+        out["ns_per_cell_step"] = round(10 * one["ns_per_tet_step"], 1)
+    out["lanes"] = per
     return out
 
 
@@ -267,11 +319,14 @@ def main(tiny=False):
     steps, ramp = (600, 200) if tiny else (6000, 2000)
     models = {}
     for name, (full, small) in MODELS.items():
+        # every width compiles its kernels (half a minute): the tiny run
+        # batches the first model's lanes, the others run alone
+        lanes = LANES if not tiny else LANES[:2] if not models else LANES[:1]
         base = small + TINY if tiny else full
-        models[name] = kernel_times(base, steps, ramp)
+        models[name] = kernel_times(base, steps, ramp, lanes)
         if name in ("elasto-plastic", "potential-crack"):
             # strong joints: the bricks crack (brick failure), so the plastic path runs
-            brick = kernel_times(base + STRONG, int(1.5 * steps), ramp)
+            brick = kernel_times(base + STRONG, int(1.5 * steps), ramp, lanes)
             models[name]["brick_failure"] = {k: v for k, v in brick.items()
                                              if k.startswith(("ns_", "steps_", "cracked"))}
     out = dict(models["elasto-plastic"])

@@ -1,4 +1,4 @@
-"""The study from empty in one go, timed.
+"""The study from empty, timed.
 
     .venv/bin/python benchmarks/study_time.py [--cores 2]
 
@@ -11,12 +11,13 @@ results/study/timing.csv, one row:
   wall_s           wall clock, Snakemake's start to its exit
   runs             simulations in results/study/runs.parquet
   cores            the cores given to Snakemake
-  mean_run_s       mean wall time of a run inside the solver (its row's
-                   wall_time_s: building the model, loading the kernels, the steps)
-  mean_startup_s   mean start-up of a simulation job, from the job's start
-                   to the first step's set-up (its row's startup_s: reading
-                   the inputs; for a job in a process of its own, from the
-                   interpreter's start, the imports too)
+  batch_runs       the runs of a simulation job (config batch.runs) ...
+  lanes            ... advanced in lock-step at a time (config batch.lanes)
+  core_s_per_run   wall_s x cores / runs: what a run costs the study, all
+                   included (planning, start-up, the analysis)
+  mean_startup_s   a run's share of its job's start-up, from the
+                   interpreter's start to the first simulation (its row's
+                   startup_s)
   mean_steps       mean time steps of a run
   solver_version   the rows' solver version (one for all)
 
@@ -53,8 +54,10 @@ def main():
     wall = time.perf_counter() - t0
     runs = pd.read_parquet(ROOT / "results" / "study" / "runs.parquet")
     versions = runs["solver_version"].dropna().unique()
-    row = dict(wall_s=round(wall, 1), runs=len(runs), cores=args.cores,
-               mean_run_s=round(float(runs["wall_time_s"].mean()), 3),
+    import yaml
+    batch = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["batch"]
+    row = dict(wall_s=round(wall, 1), runs=len(runs), cores=args.cores, batch_runs=batch["runs"],
+               lanes=batch["lanes"], core_s_per_run=round(wall * args.cores / len(runs), 3),
                mean_startup_s=round(float(runs["startup_s"].mean()), 3),
                mean_steps=round(float(runs["steps"].mean()), 1),
                solver_version=",".join(versions), date=datetime.date.today().isoformat())

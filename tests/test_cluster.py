@@ -1,9 +1,9 @@
 """The cluster path for real: the smoke study through SLURM with the
-cluster profile (profiles/slurm: per-rule resources, simulations grouped 50
-to a cluster job), the whole smoke DAG end to end, against the smoke
-study's simulations run locally (`snakemake --cores 2`, target
-study/runs.parquet: the rest of the DAG does not change P_max), bit for bit
-in P_max; and a group job killed with scancel.  About 20 min on two busy
+cluster profile (profiles/slurm: per-rule resources, a batch of the
+study's simulations a cluster job), the whole smoke DAG end to end,
+against the smoke study's simulations run locally (`snakemake --cores 2`,
+target study/runs.parquet: the rest of the DAG does not change P_max), bit
+for bit in P_max; and a batch job killed with scancel.  About 20 min on two busy
 cores.  Needs a running SLURM (`make test-cluster` starts a one-node one with
 tools/local-slurm.sh); skipped when `sinfo` does not answer, and never part
 of `make test` (pyproject.toml deselects the marker)."""
@@ -66,22 +66,21 @@ def local(cluster, tmp_path_factory):
 
 def planned_submissions(cmd):
     """What a cluster run of ``cmd`` will submit, from its own dry run: every
-    job it plans outside a group that has outputs (a rule with inputs only,
-    like `all`, runs nowhere), and every group job (the simulations, 50 to a
-    group: profiles/slurm).  Returns (that count, the planned simulations)."""
+    job it plans that has outputs (a rule with inputs only, like `all`,
+    runs nowhere).  Returns (that count, the planned batches of the study's
+    simulations, the simulations they hold)."""
     import re
-    plan = subprocess.run(cmd + ["-n"], capture_output=True, text=True, check=True).stdout.splitlines()
+    text = subprocess.run(cmd + ["-n"], capture_output=True, text=True, check=True).stdout
     alone, rule = 0, None
-    for line in plan:
-        if m := re.match(r"(?:local)?rule (\w+):$", line):            # a job outside a group
+    for line in text.splitlines():
+        if m := re.match(r"(?:local)?rule (\w+):$", line):
             rule = m.group(1)
         elif line.startswith("    output:") and rule:
             alone, rule = alone + 1, None
         elif line.startswith("["):
             rule = None
-    groups = sum("] Group job " in line for line in plan)
-    simulations = sum(line.strip() == "rule simulate:" for line in plan)
-    return alone + groups, simulations
+    batches = re.findall(r"rule simulate_\d+:\n(?:\s+input:.*\n)?\s+output: (.*)\n", text)
+    return alone, len(batches), sum(b.count("result.json") for b in batches)
 
 
 @pytest.fixture(scope="module")
@@ -114,30 +113,31 @@ def test_cluster_study_matches_local_bit_for_bit(runs, local):
     same_p_max(pd.read_parquet(root / "study" / "runs.parquet"), local)
 
 
-def test_cluster_jobs_were_grouped_and_accounted(runs):
+def test_cluster_jobs_were_batches_and_accounted(runs):
     """Every job went through SLURM and its accounting: as many jobs
-    submitted, and accounted, as the run's own plan holds (its dry run:
-    every remote job, the simulations as groups of 50); one group job held
-    all 32 simulations (group-components 50) on 2 cores (the profile's limit
-    per job, not 32 cores) with 16 layers x 5 min, and every job completed."""
-    root, run_id, log, (expected, simulations) = runs
+    submitted, and accounted, as the run's own plan holds (its dry run);
+    the study's 32 simulations were 4 batch jobs of 8 (config/smoke.yaml:
+    batch.runs), each on one core with a batch's runtime (a minute a run,
+    at least 10), and every job completed."""
+    root, run_id, log, (expected, batches, simulations) = runs
     jobs = sacct(run_id)
     submitted = [x for x in log.splitlines() if "has been submitted with SLURM jobid" in x]
-    assert simulations == 32 and len(jobs) == len(submitted) == expected, (expected, jobs.to_string())
+    assert (batches, simulations) == (4, 32) and len(jobs) == len(submitted) == expected, (expected, jobs.to_string())
     assert (jobs.state == "COMPLETED").all(), jobs.to_string()
-    groups = jobs[jobs.comment == "rule_simulations_simulate"]
-    assert len(groups) == 1, jobs.to_string()
-    g = groups.iloc[0]
-    assert (g.cpus, g.mem, g.timelimit) == ("2", "2000M", "01:20:00"), g
-    assert not jobs.comment.str.startswith("rule_simulate_wildcards").any()  # no simulation on its own
+    study = jobs[jobs.comment.str.match(r"rule_simulate_\d+")]
+    assert len(study) == 4, jobs.to_string()
+    for g in study.itertuples():
+        assert (g.cpus, g.mem, g.timelimit) == ("1", "2000M", "00:10:00"), g
     assert (root / "study" / "statistics.csv").stat().st_size > 0
 
 
-def test_killed_group_job_rerun_finishes_only_what_is_missing(local, tmp_path):
-    """scancel the simulations' group job halfway: Snakemake reports the
-    failure (no retry here: --retries 0) and keeps the simulations the job
-    had finished (keep-incomplete); the rerun plans and runs only the missing
-    ones, and the table matches the local run bit for bit."""
+def test_killed_batch_job_rerun_finishes_only_what_is_missing(local, tmp_path):
+    """scancel a batch job of the study's simulations while it runs:
+    Snakemake reports the failure (no retry here: --retries 0) and keeps
+    the batches that had finished; the rerun plans and runs only the
+    killed batch's simulations (and any not started), and the table
+    matches the local run bit for bit."""
+    import re
     res = tmp_path / "results"
     cmd = SNAKEMAKE + [f"{res}/study/runs.parquet", "--profile", "profiles/slurm"] + SMOKE + ["--config",
                                                                                              f"results={res}"]
@@ -147,24 +147,23 @@ def test_killed_group_job_rerun_finishes_only_what_is_missing(local, tmp_path):
         killed = None
         deadline = time.monotonic() + 1800
         while p.poll() is None and time.monotonic() < deadline:
-            time.sleep(5)
-            done = list((res / "study" / "runs").glob("*/sigma_v*/s*/curve.json"))
-            if killed is None and len(done) >= 4:
+            time.sleep(2)
+            if killed is None:
                 q = subprocess.run(["squeue", "-h", "-t", "RUNNING", "-o", "%i %k"], capture_output=True, text=True)
-                ids = [x.split()[0] for x in q.stdout.splitlines() if x.split()[1:] == ["rule_simulations_simulate"]]
+                ids = [x.split()[0] for x in q.stdout.splitlines() if re.match(r"rule_simulate_\d+", x.split()[-1])]
                 if ids:
                     subprocess.run(["scancel", ids[0]], check=True)
                     killed = ids[0]
         if p.poll() is None:
             p.kill()
     log = out.read_text()
-    assert killed, "the group job was never seen running: " + log[-3000:]
-    assert p.returncode not in (0, None) and "Error in group simulations" in log, log[-3000:]
+    assert killed, "no batch job was seen running: " + log[-3000:]
+    assert p.returncode not in (0, None) and "Error in rule simulate_" in log, log[-3000:]
     kept = len(list((res / "study" / "runs").glob("*/sigma_v*/s*/curve.json")))
-    assert 4 <= kept < 32
+    assert kept < 32 and kept % 8 == 0, kept
     plan = subprocess.run(cmd + ["-n"], capture_output=True, text=True).stdout
-    line = [x for x in plan.splitlines() if x.split()[:1] == ["simulate"]]
-    assert line and int(line[0].split()[-1]) == 32 - kept, plan[-3000:]
+    batches = re.findall(r"rule simulate_\d+:\n(?:\s+input:.*\n)?\s+output: (.*)\n", plan)
+    assert sum(b.count("result.json") for b in batches) == 32 - kept, plan[-3000:]
     r = subprocess.run(cmd, capture_output=True, text=True)
     assert r.returncode == 0, (r.stdout + r.stderr)[-5000:]
     same_p_max(pd.read_parquet(res / "study" / "runs.parquet"), local)

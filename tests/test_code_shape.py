@@ -53,9 +53,10 @@ def test_short_functions_and_classes_outside_the_kernels():
 
 def test_history_columns_are_read_by_name():
     """The kernel's history rows (kernels.layout H_*, h_force, h_disp) are
-    turned into named columns in one place (history.from_kernel, and the
-    solver's advance that fills them); everything else reads the names."""
+    turned into named columns in one place (history.from_kernel, the
+    solver's advance that fills them, and the batch that tells a lane's
+    finite steps); everything else reads the names."""
     pattern = re.compile(r"\b(H_STEP|H_RATIO|H_KE|H_MON|h_force|h_disp)\b")
     readers = {_name(p) for p in _modules() if pattern.search(p.read_text())}
-    assert readers <= {"dem/history.py", "dem/solver.py"} | {_name(p) for p in _modules()
+    assert readers <= {"dem/history.py", "dem/solver.py", "dem/batch.py"} | {_name(p) for p in _modules()
                                                              if _name(p).startswith("dem/kernels/")}

@@ -38,7 +38,7 @@ def test_tet10_matrix_is_the_zone_kernel():
     a = m.build()
     K = cell_stiffness("tet10", SIZE, NU)
     scratch = L.Scratch(np.zeros((5, 6)), np.zeros(5), np.zeros((10, 2), np.int64), np.zeros((3, 3)),
-                        np.zeros((3, 3)), np.zeros((0, 24)), np.zeros((0, 0, 24)))
+                        np.zeros((3, 3)), np.zeros((24, 0)), np.zeros((0, 24, 0)), np.zeros((4, 1)), np.zeros(1))
     probe = np.zeros((24, 24))
     for j in range(24):
         v = np.zeros((8, 3))

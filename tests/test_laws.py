@@ -8,7 +8,7 @@ import pytest
 
 from masonrydem import InputError, JointProps, MohrCoulomb
 from masonrydem.dem import kernels as K
-from masonrydem.dem.kernels.joints import _JOINT_LAWS
+from masonrydem.dem.kernels.joint_laws import _JOINT_LAWS
 from masonrydem.dem.kernels.zones import mohr_coulomb_elastic, zone_mohr_coulomb
 from masonrydem.dem.laws import BLOCK_MODELS, JOINT_LAWS
 from masonrydem.specimen.scene import SCHEMA

@@ -210,21 +210,25 @@ def test_joint_forces_gathered_per_node_add_what_a_scatter_adds():
     """Each node gathers the forces of its sub-contacts (contacts.with_gather)
     in sub-contact order: the sums are those of a loop that scatters each
     sub-contact's force to its nodes (+w on side A, -w on side B), bit for
-    bit, on a wallette whose faces do not match node for node."""
+    bit, on a wallette whose faces do not match node for node; in each of
+    three lanes (force row s S + b: sub-contact s of lane b), as a run
+    alone."""
     from numba import njit
 
     from masonrydem.dem.kernels.joints import gather_forces
     sc = build(build_scene(WILLIS, settings={"physics.blocks": "elasto-plastic", "numerics.cells": [5, 2, 3],
                                              "numerics.subcontact_refine": 1})).assembly.joints
     rng = np.random.default_rng(1)
-    force = rng.standard_normal(sc.force.shape)
-    f0 = rng.standard_normal((sc.gptr.size - 1, 3))
+    lanes, n = 3, sc.area.size
+    force = np.asfortranarray(rng.standard_normal((n * lanes, 3)))
+    f0 = rng.standard_normal((sc.gptr.size - 1, 3, lanes))
     want = f0.copy()
-    for s in range(sc.area.size):
-        for k in range(sc.cnt[s, 0]):
-            want[sc.nodes[s, k]] += sc.w[s, k] * force[s]
-        for k in range(4, 4 + sc.cnt[s, 1]):
-            want[sc.nodes[s, k]] -= sc.w[s, k] * force[s]
+    for b in range(lanes):
+        for s in range(n):
+            for k in range(sc.cnt[s, 0]):
+                want[sc.nodes[s, k], :, b] += sc.w[s, k] * force[s * lanes + b]
+            for k in range(4, 4 + sc.cnt[s, 1]):
+                want[sc.nodes[s, k], :, b] -= sc.w[s, k] * force[s * lanes + b]
     got = f0.copy()
-    njit(lambda f, a, b, c, d: gather_forces(f, a, b, c, d))(got, sc.gptr, sc.gs, sc.gw, force)
+    njit(lambda f, a, b, c, d: gather_forces(f, a, b, c, d, 3))(got, sc.gptr, sc.gs, sc.gw, force)
     assert np.array_equal(got, want)

@@ -10,8 +10,9 @@ import pytest
 from masonrydem import Elastic, JointProps, Model
 from masonrydem.dem import kernels as K
 from masonrydem.dem.blocks import simpson, trapezoid
-from masonrydem.dem.kernels.joints import joint_bearing, joint_coupled, joint_coupled_additive, joint_coupled_total_slip
+from masonrydem.dem.kernels.joint_laws import joint_bearing, joint_coupled, joint_coupled_additive, joint_coupled_total_slip
 from masonrydem.dem.mesh import cofactors, det3
+from masonrydem.dem.lockstep import drive
 from masonrydem.specimen.protocol import precompress
 from masonrydem.specimen.scene import build_scene
 from masonrydem.dem.solver import Numerics, init
@@ -216,7 +217,7 @@ def test_a_platen_keeps_the_top_course_plane():
                                     "loading.precompression.pressure=0.5e6",
                                     f"loading.precompression.platen={str(platen).lower()}"])
         spec = build(scene)
-        state, outcome = precompress(init(spec.assembly, QS), spec)
+        state, outcome = drive(precompress(init(spec.assembly, QS), spec))
         a, g = spec.assembly, scene.geometry
         top = np.flatnonzero((np.abs(a.nodes.x0[:, 2] - g.height) < 1e-9) & (a.block_of_node >= 0))
         lo, hi = g.course_span(g.courses - 2)

@@ -8,7 +8,7 @@ import pytest
 
 from masonrydem import Elastic, InputError, JointProps, Model
 from masonrydem.dem import kernels as K
-from masonrydem.dem.kernels.joints import joint_friction
+from masonrydem.dem.kernels.joint_laws import joint_friction
 from masonrydem.dem.solver import Numerics, init, max_rotation, prescribe_rotation
 from masonrydem.dem.stops import Stops, run
 

@@ -182,8 +182,8 @@ def test_a_setting_sampling_does_not_read_reruns_no_simulation(smoke, tmp_path):
     r = subprocess.run(SNAKEMAKE + ["-n", "--configfile", "config/smoke.yaml", str(extra),
                                     "--config", f"results={smoke}"], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr[-2000:]
-    planned = {x.split()[0] for x in r.stdout.splitlines() if len(x.split()) == 2 and x.split()[1].isdigit()}
-    assert "collect" in planned and not planned & {"sample", "simulate"}, r.stdout[-2000:]
+    planned = planned_jobs(r.stdout)
+    assert "collect" in planned and not set(planned) & {"sample", "simulate"}, r.stdout[-2000:]
 
 
 SWEEP_STUDY = """
@@ -240,30 +240,37 @@ def test_a_study_that_sweeps_another_setting(tmp_path):
     assert "levels of t (8, 14 mm)" in (tmp_path / "results" / "report" / "workflow.rst").read_text()
 
 
-def test_full_study_plans_1000_simulations(tmp_path):
-    r = subprocess.run(SNAKEMAKE + ["-n", "--config", f"results={tmp_path}"], capture_output=True, text=True)
+@pytest.mark.parametrize("runs", [50, 1])
+def test_full_study_plans_1000_simulations_in_batches(tmp_path, runs):
+    """The study's 1000 runs in jobs of config batch.runs: 20 jobs of 50
+    (2 variants x 5 levels x 2), or at 1 a job each (1000 jobs), their
+    outputs every run's row and curve once."""
+    r = subprocess.run(SNAKEMAKE + ["-n", "--config", f"results={tmp_path}", f"batch={{runs: {runs}}}"],
+                       capture_output=True, text=True)
     assert r.returncode == 0, r.stderr[-2000:]
-    # the default profile (job rate limiter) is found beside the Snakefile
+    # the default profile is found beside the Snakefile
     assert "Using workflow specific profile profiles/default" in r.stdout + r.stderr
-    line = [x for x in r.stdout.splitlines() if x.split()[:1] == ["simulate"]]
-    assert line and int(line[0].split()[-1]) == 1000
+    jobs = re.findall(r"rule simulate_\d+:\n(?:\s+input:.*\n)?\s+output: (.*)\n", r.stdout)
+    assert len(jobs) == 1000 // runs and planned_jobs(r.stdout)["simulate"] == 1000
+    results = [f for job in jobs for f in job.split(", ") if f.endswith("result.json")]
+    assert len(set(results)) == 1000 and all(len([f for f in job.split(", ") if f.endswith("result.json")]) == runs
+                                             for job in jobs)
 
 
 def test_full_study_plans_on_slurm(tmp_path):
-    """The cluster profile (snakemake-executor-plugin-slurm, simulations
-    grouped 50 per cluster job) plans the full DAG (dry run), with the
-    partition from the environment and the profile's own resources (a
-    --default-resources on the command line would replace them).  Run for
-    real: tests/test_cluster.py."""
+    """The cluster profile (snakemake-executor-plugin-slurm, a batch of the
+    study's simulations a cluster job) plans the full DAG (dry run), with
+    the partition from the environment, the profile's own resources (a
+    --default-resources on the command line would replace them) and a
+    batch's runtime, a minute a run.  Run for real: tests/test_cluster.py."""
     env = dict(os.environ, MASONRYDEM_SLURM_PARTITION="test")
     r = subprocess.run(SNAKEMAKE + ["-n", "--profile", "profiles/slurm", "--config", f"results={tmp_path}"],
                        capture_output=True, text=True, env=env)
     assert r.returncode == 0, r.stderr[-2000:]
-    line = [x for x in r.stdout.splitlines() if x.split()[:1] == ["simulate"]]
-    assert line and int(line[0].split()[-1]) == 1000
-    sim = r.stdout[r.stdout.index("rule simulate:"):]
+    assert planned_jobs(r.stdout)["simulate"] == 1000
+    sim = r.stdout[r.stdout.index("rule simulate_0:"):]
     resources = sim[sim.index("resources:"):].splitlines()[0]
-    assert "slurm_partition=test" in resources and "runtime=5" in resources and "mem_mb=1000" in resources
+    assert "slurm_partition=test" in resources and "runtime=50" in resources and "mem_mb=2000" in resources
 
 
 def test_a_simulation_that_raises_is_recorded(tmp_path):
@@ -284,7 +291,7 @@ def test_a_simulation_that_raises_is_recorded(tmp_path):
     write_json(root / "study" / "samples_nonspatial.json",
                [record(r, "wallette", study.variables, study.rules) for r in records(nonspatial)])
     target = root / "study" / "runs" / "nonspatial" / "sigma_v0.0" / "s0" / "result.json"
-    r = subprocess.run(SNAKEMAKE + [str(target), "--cores", "1", "--allowed-rules", "simulate", "--configfile",
+    r = subprocess.run(SNAKEMAKE + [str(target), "--cores", "1", "--allowed-rules", "simulate_0", "--configfile",
                                     "config/smoke.yaml", "--config", f"results={root}"], capture_output=True, text=True)
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
     row = json.loads(target.read_text())
@@ -294,6 +301,9 @@ def test_a_simulation_that_raises_is_recorded(tmp_path):
     assert (row["f_tj_mpa"], row["f_tu_mpa"], row["E_b_mpa"], row["phi_j_deg"]) == (-0.1, s0.f_tu / 1e6, s0.E_b / 1e6,
                                                                                       s0.phi_j)
     assert json.loads(target.with_name("curve.json").read_text())["load_kN"] == []
+    # and its batch went on: the job's other samples ran
+    others = [json.loads(p.read_text()) for p in target.parent.parent.glob("s*/result.json") if p != target]
+    assert len(others) == smoke["samples"] - 1 and all(o["ok"] for o in others)
 
 
 def test_lint_finds_nothing(tmp_path):
@@ -332,12 +342,22 @@ def test_a_run_that_raises_is_recorded_as_the_workflow_runs_it(tmp_path, monkeyp
 
 
 def _planned(smoke, extra=(), env=None, targets=()):
-    """The jobs a dry run over the completed smoke results plans: rule -> count."""
+    """The jobs a dry run over the completed smoke results plans: rule ->
+    count; the study's batches (rules simulate_<k>, simulate_fine_<k>) as
+    'simulate' and 'simulate_fine', counted in runs (their outputs)."""
     r = subprocess.run(SNAKEMAKE + [*targets, "-n", "--configfile", "config/smoke.yaml", *extra, "--config",
                                     f"results={smoke}"], capture_output=True, text=True, env=env)
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
-    jobs = (re.fullmatch(r"(\w+)\s+(\d+)", x.strip()) for x in r.stdout.splitlines())
-    return {m[1]: int(m[2]) for m in jobs if m and m[1] != "total"}
+    return planned_jobs(r.stdout)
+
+
+def planned_jobs(text):
+    """planned's count from a dry run's output ``text``."""
+    jobs = (re.fullmatch(r"(\w+)\s+(\d+)", x.strip()) for x in text.splitlines())
+    out = {m[1]: int(m[2]) for m in jobs if m and m[1] != "total" and not re.fullmatch(r"simulate_(fine_)?\d+", m[1])}
+    for rule, outputs in re.findall(r"rule (simulate_(?:fine_)?)\d+:\n(?:\s+input:.*\n)?\s+output: (.*)\n", text):
+        out[rule[:-1]] = out.get(rule[:-1], 0) + outputs.count("result.json")
+    return out
 
 
 def _package_copy(tmp_path, module, line):
@@ -448,16 +468,18 @@ def test_a_numerics_change_reruns_every_run_and_a_new_level_only_its_own(smoke, 
     assert planned.get("simulate") == 16 and "validation_run" not in planned, planned
 
 
-def test_an_interrupted_run_resumes_with_what_is_missing(tmp_path):
-    """Ctrl-C during the smoke study: Snakemake stops, the finished
-    simulations stay, the interrupted ones are cleaned away; the same
-    command again plans exactly the missing simulations, and completes the
-    study."""
+def test_an_interrupted_run_resumes_with_what_is_missing(smoke, tmp_path):
+    """Ctrl-C during the smoke study (4 batches of 8 runs, 2 at a time):
+    Snakemake stops, the finished batches stay, the interrupted ones are
+    cleaned away; the same command again plans exactly the batches whose
+    runs are missing, and completes the study, every run as the
+    uninterrupted smoke has it."""
     import signal
     import time
     root = tmp_path / "results"
     cmd = SNAKEMAKE + [f"{root}/study/runs.parquet", "--cores", "2", "--configfile", "config/smoke.yaml",
                        "--config", f"results={root}"]
+
     def finished():     # simulations with both outputs
         return sum((r.parent / "curve.json").exists() for r in root.glob("study/runs/*/sigma_v*/s*/result.json"))
 
@@ -469,18 +491,16 @@ def test_an_interrupted_run_resumes_with_what_is_missing(tmp_path):
     p = subprocess.Popen(cmd, stdout=open(log, "w"), stderr=subprocess.STDOUT, start_new_session=True,
                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.time() + 600
-    while finished() < 6 and time.time() < deadline:
-        time.sleep(0.2)
-    # Ctrl-C, again only if nothing took it within 20 s (on a loaded machine
-    # Snakemake took more than 5 s to say so, and a second Ctrl-C then
-    # interrupted its cleanup, as a user's would): a SIGINT that lands
-    # while Snakemake writes a log line is swallowed by its log handler
-    # (snakemake/logging.py: `except (KeyboardInterrupt, SystemExit): pass`),
-    # as a user in a terminal would find it; one sent while Snakemake
-    # cleans up would interrupt the cleanup and leave incomplete outputs
+    while finished() < 9 and time.time() < deadline:       # a batch done and another started
+        time.sleep(0.1)
+
     def took_it():
         text = log.read_text()
         return p.poll() is not None or "Terminating processes on user request" in text or "SIGINT" in text
+    # Ctrl-C, again only if nothing took it within 20 s: a SIGINT that lands
+    # while Snakemake writes a log line is swallowed by its log handler
+    # (snakemake/logging.py: `except (KeyboardInterrupt, SystemExit): pass`),
+    # as a user in a terminal would find it
     for _ in range(10):
         os.killpg(p.pid, signal.SIGINT)
         t0 = time.time()
@@ -490,13 +510,14 @@ def test_an_interrupted_run_resumes_with_what_is_missing(tmp_path):
             break
     p.wait(timeout=300)
     done = finished()
-    assert 6 <= done < 32, log.read_text()[-3000:]
+    assert 8 <= done < 32 and done % 8 == 0, log.read_text()[-3000:]
     r = subprocess.run(cmd + ["-n"], capture_output=True, text=True)
-    planned = {x.split()[0]: int(x.split()[1]) for x in r.stdout.splitlines()
-               if len(x.split()) == 2 and x.split()[1].isdigit()}
-    assert planned.get("simulate") == 32 - done, r.stdout[-2000:]
+    assert planned_jobs(r.stdout).get("simulate") == 32 - done, r.stdout[-2000:]
     assert subprocess.run(cmd, capture_output=True).returncode == 0
-    assert len(pd.read_parquet(root / "study" / "runs.parquet")) == 32
+    runs = pd.read_parquet(root / "study" / "runs.parquet").set_index(["variant", "sigma_v_mpa", "sample"])
+    ref = pd.read_parquet(smoke / "study" / "runs.parquet").set_index(["variant", "sigma_v_mpa", "sample"])
+    assert len(runs) == 32 and runs.P_max_kN.equals(ref.P_max_kN.loc[runs.index]) and runs.steps.equals(
+        ref.steps.loc[runs.index])
 
 
 def test_a_further_study_gets_a_report_page_that_states_its_numbers(tmp_path):

@@ -2,7 +2,7 @@
 user, the study's jobs and the workflow's runs alike.
 
   masonrydem run SCENE.yaml [--set path.to.key=value ...] --out DIR [--state] [--quiet] [--threads N]
-      [--samples FILE --sample N --variant V] [--format parquet|json] [--exit-zero]
+      [--samples FILE --variant V --sample N [--sample M ...] [--lanes L]] [--format parquet|json] [--exit-zero]
   masonrydem check SCENE.yaml [--set path.to.key=value ...] | masonrydem check STUDY.yaml
   masonrydem predict PREDICTOR NAME=VALUE ...
   masonrydem fit LAB.csv --name NAME --setting KEY [--measured M] [--depth D] [--factor F --source S] ...
@@ -19,13 +19,18 @@ an internal error (a run that raised still writes its row, status
 'error').  With --exit-zero (the workflow's jobs), 0 whenever the row is
 written: the row's status says how the run ended.
 
-A study job (--samples) reads one sample of a study's samples file and
-runs the scene with that sample's settings (study.py).  The run reports
-its own start-up, ``startup_s``: from the interpreter's start to the
-simulation's start (imports and reading the inputs), or, for a job run in
-a warm process (``run_job``), from the job's start.  Run as
-``python -m masonrydem.cli``, it skips the interpreter's teardown of numba
-and LLVM once its outputs are written (0.2 s of a job that simulates for 2).
+A study job (--samples) reads samples of a study's samples file and runs
+the scene with each sample's settings: a batch, its runs of one mesh
+advanced in lock-step, up to --lanes at a time (specimen/protocol.py,
+simulate_many), each giving the bits it gives alone.  Each run writes its
+row and curve as it ends, into --out with {sample} replaced by its number
+(results/study/runs/nonspatial/sigma_v0.15/s{sample}); a sample the scene
+refuses, or a run that fails, is a row with its status.  A run
+reports its share of the process's start-up, ``startup_s``: from the
+interpreter's start to the first simulation's start (imports and reading
+the inputs), over the batch's runs.  Run as ``python -m masonrydem.cli``,
+it skips the interpreter's teardown of numba and LLVM once its outputs
+are written (0.2 s).
 """
 import argparse
 import os
@@ -69,71 +74,86 @@ def output_dir(out):
     return path
 
 
-def read_sample(path, number):
-    """Sample ``number`` of a samples file (JSON: a list of records)."""
+def read_samples(path, numbers):
+    """The samples ``numbers`` of a samples file (JSON: a list of records)."""
     from .specimen.row import read_json
     try:
-        samples = read_json(path)
+        samples = {s.get("sample"): s for s in read_json(path)}
     except (OSError, ValueError) as e:
         raise InputError("--samples", f"cannot read {path}: {e}") from None
-    for s in samples:
-        if s.get("sample") == number:
-            return s
-    raise InputError("--sample", f"{path} has no sample {number}")
+    missing = [n for n in numbers if n not in samples]
+    if missing:
+        raise InputError("--sample", f"{path} has no sample {missing[0]}")
+    return [samples[n] for n in numbers]
 
 
-def scene_of(args):
-    """(the typed scene of the command line, the sample's record or None,
-    the sample's refusal or None): the file, its --set overrides, then the
-    sample's settings.  A study job whose sample the scene refuses gives
-    the scene without the sample and the refusal: the job records the
-    refused sample as a run with status 'error'."""
+def scenes_of(args):
+    """The typed scenes of the command line: [(the scene, the sample's
+    record or None, the sample's refusal or None)], the file with its --set
+    overrides, then each --sample's settings.  A sample the scene refuses
+    gives the scene without the sample and the refusal: the job records it
+    as a run with status 'error'."""
     from .specimen.scene import build_scene
     overrides = list(args.set) + (["outputs.state=true"] if args.state else [])
     if args.samples is None:
-        return build_scene(args.scene, overrides), None, None
-    if args.sample is None or args.variant is None:
-        raise InputError("--samples", "needs --sample N and --variant V")
-    sample = read_sample(args.samples, args.sample)
-    if "settings" not in sample:
-        raise InputError("--samples", f"{args.samples}: sample {args.sample} has no settings: a samples file of an "
-                                      "older version; rerun the study's sample rule")
-    try:
-        return build_scene(args.scene, overrides, sample["settings"], f"{args.variant}:s{args.sample}"), sample, None
-    except InputError as e:
-        return build_scene(args.scene, overrides), sample, e
+        if args.sample or args.variant is not None:
+            raise InputError("--sample", "runs a study's sample: needs --samples FILE")
+        return [(build_scene(args.scene, overrides), None, None)]
+    if not args.sample or args.variant is None:
+        raise InputError("--samples", "needs --variant V and --sample N (once or more)")
+    if args.state:
+        raise InputError("--state", "writes one run's final state: not with --samples (run the sample alone)")
+    records = read_samples(args.samples, args.sample)
+    out = []
+    for sample in records:
+        if "settings" not in sample:
+            raise InputError("--samples", f"{args.samples}: sample {sample.get('sample')} has no settings: a samples "
+                                          "file of an older version; rerun the study's sample rule")
+        try:
+            out.append((build_scene(args.scene, overrides, sample["settings"], f"{args.variant}:s{sample['sample']}"),
+                        sample, None))
+        except InputError as e:
+            out.append((build_scene(args.scene, overrides), sample, e))
+    return out
 
 
-def _run(args, stream=None, started=None):
-    """``run``; its messages to ``stream`` (None: stdout and stderr);
-    ``started``: when the job started (None: the interpreter's start)."""
+def _run(args):
+    """``run``: one scene, or a batch of a study's samples."""
     check_threads(args.threads)
-    scene, sample, refused = scene_of(args)
-    out = output_dir(args.out)
+    if args.lanes < 1:
+        raise InputError("--lanes", f"must be at least 1, got {args.lanes}")
+    runs = scenes_of(args)
+    if args.samples is None:
+        outs = [output_dir(args.out)]
+    elif "{sample}" not in args.out and len(runs) > 1:
+        raise InputError("--out", f"{args.out} is one folder for {len(runs)} runs: write {{sample}} where each "
+                                  "run's number goes (runs/s{sample})")
+    else:
+        outs = [output_dir(args.out.replace("{sample}", str(sample["sample"]))) for _, sample, _ in runs]
     import numba
-
-    from .specimen.row import empty_curve, error_row, sample_inputs, write
     numba.set_num_threads(args.threads)
-    startup = time.time() - (_process_start() if started is None else started)
-    labels = dict(variant=args.variant, sample=args.sample) if sample is not None else {}
-    inputs = sample.get("inputs", {}) if sample is not None else {}
+    startup = time.time() - _process_start()
+    if args.samples is None:
+        return _run_one(args, runs[0][0], outs[0], startup)
+    return _run_batch(args, runs, outs, startup)
+
+
+def _run_one(args, scene, out, startup):
+    from .specimen.row import empty_curve, error_row, write
     t0 = time.perf_counter()
     try:
-        if refused is not None:
-            raise refused
-        row, curve, state, error = _simulate(scene, not args.quiet, labels, inputs)
+        row, curve, state, error = _simulate(scene, not args.quiet)
     except Exception as e:   # nothing lost: the row says what happened
-        traceback.print_exc(file=stream or sys.stderr)
-        values = sample_inputs(sample, inputs) if refused is not None else None
-        row = error_row(scene, e, time.perf_counter() - t0, **labels, inputs=inputs, values=values)
+        traceback.print_exc()
+        row = error_row(scene, e, time.perf_counter() - t0)
         curve, error = empty_curve(), e
         state = True if scene.outputs.state else None
     row.startup_s = startup
     write(out, row, curve, args.format, state)
-    return _report(row, error, out, args.exit_zero, stream)
+    return _report(row, error, out, args.exit_zero)
 
 
-def _simulate(scene, progress, labels, inputs):
+def _simulate(scene, progress):
     """(row, curve, final state for VTK or None, None)."""
     from .specimen.protocol import simulate
     from .specimen.row import curve, outcome_row
@@ -142,82 +162,71 @@ def _simulate(scene, progress, labels, inputs):
     if scene.outputs.state:
         from .specimen.state import state_blocks
         state = state_blocks(outcome.specimen, outcome.state)
-    return outcome_row(outcome, **labels, inputs=inputs), curve(outcome), state, None
+    return outcome_row(outcome), curve(outcome), state, None
 
 
-def _report(row, error, out, exit_zero, stream=None):
-    err = stream or sys.stderr
+def _run_batch(args, runs, outs, startup):
+    """The samples of ``runs`` as a batch: each run's row and curve into
+    its folder of ``outs`` as it ends, with a line."""
+    from .specimen.protocol import simulate_many
+    from .specimen.row import curve, empty_curve, error_row, outcome_row, sample_inputs, write
+    codes, oks = [], []
+    t0 = time.perf_counter()
+    lanes = min(args.lanes, len(runs))
+
+    def finish(i, outcome, error):
+        scene, sample, refused = runs[i]
+        labels = dict(variant=args.variant, sample=sample["sample"])
+        inputs = sample.get("inputs", {})
+        if error is None:
+            try:
+                row, run_curve = outcome_row(outcome, **labels, inputs=inputs, lanes=lanes), curve(outcome)
+            except Exception as e:   # nothing lost
+                error = e
+        if error is not None:
+            if not isinstance(error, InputError):
+                traceback.print_exception(error)
+            values = sample_inputs(sample, inputs) if refused is not None else None
+            row = error_row(scene, error, time.perf_counter() - t0, **labels, inputs=inputs, values=values)
+            run_curve = empty_curve()
+        row.startup_s = startup / len(runs)
+        write(outs[i], row, run_curve, args.format)
+        codes.append(_report(row, error, outs[i], args.exit_zero, quiet=True))
+        oks.append(row.ok)
+        if not args.quiet:
+            print(f"[{len(codes)}/{len(runs)}] {args.variant} s{row.sample}: {row.status}, P_max {row.P_max_kN:.3f} kN, "
+                  f"{row.steps} steps ({time.perf_counter() - t0:.0f} s)", file=sys.stderr, flush=True)
+
+    for i, (_, _, refused) in enumerate(runs):
+        if refused is not None:
+            finish(i, None, refused)
+    simulate_many([scene for scene, _, refused in runs if refused is None],
+                  _renumbered(finish, [i for i, (_, _, refused) in enumerate(runs) if refused is None]), lanes)
+    print(f"{len(runs)} runs, {sum(oks)} ok, in {time.perf_counter() - t0:.1f} s on {lanes} lanes -> {args.out}")
+    return max(codes)
+
+
+def _renumbered(finish, index):
+    """``finish`` called with the index of a run among all from its index
+    among those simulated."""
+    return lambda i, outcome, error: finish(index[i], outcome, error)
+
+
+def _report(row, error, out, exit_zero, quiet=False):
+    """The exit code of a run's row (module docstring); its lines unless ``quiet``."""
     if isinstance(error, InputError):   # found only once the model was built (or a sample the scene refused)
-        print(f"masonrydem: invalid input: {error} (status 'error' -> {out})", file=err)
+        print(f"masonrydem: invalid input: {error} (status 'error' -> {out})", file=sys.stderr)
         return 0 if exit_zero else 2
     if error is not None:
-        print(f"masonrydem: internal error: {row.message} (status 'error' -> {out})", file=err)
+        print(f"masonrydem: internal error: {row.message} (status 'error' -> {out})", file=sys.stderr)
         return 0 if exit_zero else 3
-    print(f"{row.status}: P_max {row.P_max_kN:.3f} kN at {row.disp_at_peak_mm:.3f} mm, "
-          f"strength {row.strength_mpa:.3f} MPa, {row.classification}; "
-          f"{row.steps} steps, {row.wall_time_s:.1f} s -> {out}", file=stream or sys.stdout)
+    if not quiet:
+        print(f"{row.status}: P_max {row.P_max_kN:.3f} kN at {row.disp_at_peak_mm:.3f} mm, "
+              f"strength {row.strength_mpa:.3f} MPa, {row.classification}; "
+              f"{row.steps} steps, {row.wall_time_s:.1f} s -> {out}")
     if not row.ok:
-        print(f"masonrydem: the run ended not ok ({row.status}): {row.message}", file=err)
+        print(f"masonrydem: the run ended not ok ({row.status}): {row.message}", file=sys.stderr)
     return 0 if row.ok or exit_zero else 1
-
-
-class Interrupted(BaseException):
-    """Raised in a job that ``run_job`` runs in a thread when this process
-    is interrupted (Ctrl-C): not an Exception, so that no handler records
-    it as a failed run; the job fails, and Snakemake removes its outputs."""
-
-
-_JOBS = set()       # the threads of this process that run a job (run_job)
-_INTERRUPT = []     # the SIGINT handler installed, once
-
-
-def interrupt_jobs_on_sigint():
-    """Ctrl-C interrupts the jobs ``run_job`` runs in threads of this
-    process as it interrupts a job in a process of its own: each gets
-    ``Interrupted`` at its next return from the compiled kernel (within a
-    chunk of steps), then the handler that was there runs (Snakemake's
-    KeyboardInterrupt).  Installed from the main thread (the workflow, as
-    Snakemake reads it); nothing where SIGINT is ignored (a background run)."""
-    import signal
-    import threading
-    if _INTERRUPT or threading.current_thread() is not threading.main_thread():
-        return
-    previous = signal.getsignal(signal.SIGINT)
-    if previous in (signal.SIG_IGN, None):
-        return
-
-    def interrupt(signum, frame):
-        import ctypes
-        for ident in list(_JOBS):
-            ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(ident), ctypes.py_object(Interrupted))
-        (previous if callable(previous) else signal.default_int_handler)(signum, frame)
-    signal.signal(signal.SIGINT, interrupt)
-    _INTERRUPT.append(interrupt)
-
-
-def run_job(argv, log):
-    """``masonrydem run`` with the arguments ``argv`` in this process,
-    quietly, its messages and any traceback written to the file ``log``.
-    The workflow's simulation jobs run so, in threads of Snakemake's own
-    process (profiles/default: force-use-threads), where the package and
-    its compiled kernels load once rather than once a job; the step kernel
-    releases the GIL.  ``startup_s`` is then the job's own, from this call
-    to the simulation's start.  Returns the exit code, as ``main``;
-    Ctrl-C raises ``Interrupted`` (``interrupt_jobs_on_sigint``)."""
-    import threading
-    started = time.time()
-    _JOBS.add(threading.get_ident())
-    try:
-        with open(log, "w") as stream:
-            try:
-                return main(["run", *argv, "--quiet"], stream, started)
-            except SystemExit as e:         # arguments argparse refuses (its message on stderr)
-                return e.code
-            except Interrupted:
-                print("masonrydem: interrupted (Ctrl-C); its outputs are removed", file=stream)
-                raise
-    finally:
-        _JOBS.discard(threading.get_ident())
 
 
 def _process_start():
@@ -319,14 +328,18 @@ def parser():
     run.add_argument("scene", help="scene YAML file (see config/scenes/willis.yaml)")
     run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                      help="override a scene setting, e.g. --set loading.precompression.pressure=0.15e6")
-    run.add_argument("--out", required=True, help="output directory")
+    run.add_argument("--out", required=True, help="output directory (with --samples: {sample} stands for each "
+                                                  "run's number)")
     run.add_argument("--state", action="store_true", help="also write the final state (state.vtm)")
     run.add_argument("--quiet", action="store_true", help="no progress lines")
     run.add_argument("--threads", type=int, default=1, help="numba threads (default 1, at most the machine's cores)")
     run.add_argument("--format", choices=("parquet", "json"), default="parquet",
                      help="of result and curve (default parquet)")
     run.add_argument("--samples", help="a study's samples file (JSON): run one of its samples")
-    run.add_argument("--sample", type=int, help="with --samples: the sample's number")
+    run.add_argument("--sample", type=int, action="append", default=[],
+                     help="with --samples: a sample's number (several: a batch)")
+    run.add_argument("--lanes", type=int, default=8,
+                     help="with --samples: the runs advanced in lock-step at a time (default 8)")
     run.add_argument("--variant", help="with --samples: the sample's variant (as the study file names it)")
     run.add_argument("--exit-zero", action="store_true",
                      help="exit 0 whenever the row is written (its status says how the run ended)")
@@ -350,20 +363,18 @@ def parser():
 COMMANDS = dict(check=_check, predict=_predict, fit=_fit)   # and run (main)
 
 
-def main(argv=None, stream=None, started=None):
-    """The command line ``argv``; the exit code.  ``stream`` and
-    ``started``: a run's messages and its start (``run_job``)."""
+def main(argv=None):
+    """The command line ``argv``; the exit code."""
     args = parser().parse_args(argv)
-    err = stream or sys.stderr
     try:
-        return _run(args, stream, started) if args.command == "run" else COMMANDS[args.command](args)
+        return _run(args) if args.command == "run" else COMMANDS[args.command](args)
     except InputError as e:
         from .pipeline.check import explained
-        print(f"masonrydem: invalid input: {explained(e)}", file=err)
+        print(f"masonrydem: invalid input: {explained(e)}", file=sys.stderr)
         return 2
     except Exception:
-        traceback.print_exc(file=err)
-        print("masonrydem: internal error (please report it with the traceback above)", file=err)
+        traceback.print_exc()
+        print("masonrydem: internal error (please report it with the traceback above)", file=sys.stderr)
         return 3
 
 

@@ -47,18 +47,38 @@ use rule accuracy_run as accuracy_check_run with:
         f"{R}/logs/accuracy/check_{{case}}_{{setting}}.log",
 
 
-use rule simulate as simulate_fine with:
-    output:
-        result=f"{R}/accuracy/subsample/{{variant}}/sv{{sv}}/s{{sample}}/result.json",
-        curve=f"{R}/accuracy/subsample/{{variant}}/sv{{sv}}/s{{sample}}/curve.json",
-    params:
-        sets=get_fine_sets,  # complete: independent of the defaults
-        out=get_run_dir,
-        solver=get_solver_hash(),
-        python=get_python,
-        scene=get_file_digest(config["scene"]),
-    log:
-        f"{R}/logs/accuracy/subsample_{{variant}}_sv{{sv}}_s{{sample}}.log",
+# the accuracy subsample's runs at fine settings, in jobs as the study's
+for _k, (_variant, _sv, _samples) in enumerate(plan.subsample_batches(config)):
+
+    rule:
+        """A batch of the accuracy subsample's study runs at fine settings."""
+        name:
+            f"simulate_fine_{_k}"
+        input:
+            samples=f"{R}/study/samples_{_variant}.json",
+            scene=ancient(get_study_scene()),
+        output:
+            [f"{R}/accuracy/subsample/{_variant}/sv{_sv}/s{s}/{kind}.json" for s in _samples
+             for kind in ("result", "curve")],
+        params:
+            sets=get_fine_sets(SimpleNamespace(sv=_sv)),  # complete: independent of the defaults
+            variant=_variant,
+            samples=get_batch_samples(_samples),
+            lanes=config["batch"]["lanes"],
+            out=get_batch_out(f"{R}/accuracy/subsample/{_variant}/sv{_sv}"),
+            solver=get_solver_hash(),
+            scene=get_file_digest(get_study_scene()),
+            python=get_python,
+        log:
+            f"{R}/logs/accuracy/subsample_{_variant}_sv{_sv}_b{_k}.log",
+        threads: 1
+        resources:
+            runtime=get_batch_runtime(_samples),
+            mem_mb=2000,
+        conda:
+            ENV
+        shell:
+            RUN_BATCH
 
 
 rule accuracy_references:

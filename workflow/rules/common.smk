@@ -7,11 +7,9 @@ from pathlib import Path
 from snakemake.utils import validate
 
 import masonrydem
-import masonrydem.cli
 from masonrydem.pipeline import plan
 from masonrydem.pipeline.check import check_config
 from masonrydem.pipeline.plan import reference_checks, reference_runs
-from masonrydem.pipeline.snakemake_state import stop_rate_limiter_timers
 
 # a stage set to null (by a study's own workflow config, over config.yaml's)
 # is no stage of this workflow
@@ -70,24 +68,30 @@ RUN = ("{params.python:q} -m masonrydem.cli run {input.scene:q} {params.sets} --
        "--threads {threads} --exit-zero > {log:q} 2>&1")
 
 
-def run_study_job(input, params, wildcards, threads, log):
-    """A study simulation, a job of the step simulate: the command line of
-    RUN with the sample's options, run in this process by
-    masonrydem.cli.run_job, its row and curve as JSON.  With
-    force-use-threads (profiles/default) each such job runs in a thread of
-    Snakemake's own process, where the package and its compiled kernels
-    load once (a process of its own spends about 0.4 s on them, a fifth of
-    a run); the step kernel releases the GIL."""
-    from masonrydem.cli import run_job
-    argv = [input.scene, *shlex.split(params.sets), "--out", params.out, "--threads", str(threads), "--exit-zero",
-            "--format", "json", "--samples", input.samples, "--sample", wildcards.sample, "--variant", wildcards.variant]
-    if run_job(argv, log[0]) != 0:
-        raise RuntimeError(f"masonrydem run {shlex.join(argv)} failed: see {log[0]}")
+# A batch of a study's simulations through the same command line: its
+# samples (--sample, once each) of one variant and level, advanced in
+# lock-step in one process (--lanes at a time), each run's row and curve
+# into its own folder (--out with {sample}); --exit-zero as RUN.
+RUN_BATCH = ("{params.python:q} -m masonrydem.cli run {input.scene:q} {params.sets} --samples {input.samples:q} "
+             "--variant {params.variant} {params.samples} --lanes {params.lanes} --out {params.out:q} "
+             "--format json --threads {threads} --exit-zero > {log:q} 2>&1")
 
 
-# Ctrl-C interrupts the simulations that run in threads of this process as
-# it interrupts those in processes of their own: their outputs are removed
-masonrydem.cli.interrupt_jobs_on_sigint()
+def get_batch_samples(samples):
+    """The --sample options of a batch."""
+    return " ".join(f"--sample {s}" for s in samples)
+
+
+def get_batch_out(folder):
+    """The --out of a batch: each run's folder, {sample} its number (a
+    function: Snakemake formats a param's string with the wildcards)."""
+    return lambda wildcards: f"{folder}/s{{sample}}"
+
+
+def get_batch_runtime(samples):
+    """A batch job's runtime (minutes; a cluster's limit): a minute a run,
+    twice on its retry, at least 10."""
+    return lambda wildcards, attempt: attempt * max(10, len(samples))
 
 
 def get_job_sets(overrides):
@@ -195,7 +199,12 @@ def get_study_settings():
 def get_study_sets(wildcards):
     """A study simulation: the numerics and its level of the swept setting
     (the sample's settings come from the samples file: --samples)."""
-    return get_job_sets(plan.effective(config["numerics"], [plan.level_override(config, wildcards.level)]))
+    return get_level_sets(wildcards.level)
+
+
+def get_level_sets(level):
+    """get_study_sets of the level folder ``level``."""
+    return get_job_sets(plan.effective(config["numerics"], [plan.level_override(config, level)]))
 
 
 def get_fine_sets(wildcards):

@@ -38,9 +38,15 @@ from masonrydem.pipeline.snakemake_state import (building_report, delete_record,
                                                  record_times_error, recorded_paths, write_record)
 
 PROVENANCE = f"{R}/provenance.json"
-# the rules whose outputs are one run each: not committed, so not recorded
-PER_RUN_RULES = {"simulate", "simulate_fine", "accuracy_run", "accuracy_check_run", "accuracy_scaling_run",
-                 "modelform_run", "hard_case_run", "reduced_run", "specimen_run"}
+# the rules whose outputs are runs: not committed, so not recorded (and the
+# batches of the study's runs, simulate_<k> and simulate_fine_<k>)
+PER_RUN_RULES = {"accuracy_run", "accuracy_check_run", "accuracy_scaling_run", "modelform_run", "hard_case_run",
+                 "reduced_run", "specimen_run"}
+
+
+def per_run_rule(name):
+    """Whether the rule ``name`` makes runs (PER_RUN_RULES)."""
+    return name in PER_RUN_RULES or (name or "").startswith("simulate_")
 # what a record keeps: Snakemake's fields that decide a rerun (not the
 # command line, which names this machine's interpreter), and the job's
 # times for the report
@@ -88,7 +94,7 @@ def _sha256(path):
 @functools.cache
 def _single_run(path):
     """Whether ``path`` is a single run's output (not committed)."""
-    return any(workflow.get_rule(name).is_producer(path) for name in PER_RUN_RULES)
+    return any(r.is_producer(path) for r in workflow.rules if per_run_rule(r.name))
 
 
 def _kept(record, saved):
@@ -173,7 +179,7 @@ def save_provenance():
         record = read_record(path)
         if record is None:
             continue
-        if record.get("rule") not in PER_RUN_RULES and not record.get("incomplete"):
+        if not per_run_rule(record.get("rule")) and not record.get("incomplete"):
             records[path.as_posix()] = record
     entries = {Path(p).relative_to(R).as_posix(): {"sha256": _sha256(p), "record": _kept(r, records)}
                for p, r in records.items()}

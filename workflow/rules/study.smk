@@ -41,24 +41,39 @@ rule sampling_check:
         "../scripts/sampling_check.py"
 
 
-rule simulate:
-    """One simulation: a variant, a level of the swept setting, a sample."""
-    input:
-        samples=f"{R}/study/samples_{{variant}}.json",
-        scene=ancient(get_study_scene()),  # by its content: params.scene
-    output:
-        result=f"{R}/study/runs/{{variant}}/{{level}}/s{{sample}}/result.json",
-        curve=f"{R}/study/runs/{{variant}}/{{level}}/s{{sample}}/curve.json",
-    params:
-        sets=get_study_sets,
-        out=get_run_dir,
-        solver=get_solver_hash(),
-        scene=get_file_digest(get_study_scene()),
-    log:
-        f"{R}/logs/study/{{variant}}_{{level}}_s{{sample}}.log",
-    threads: 1
-    run:
-        run_study_job(input, params, wildcards, threads, log)
+# The simulations, in jobs of config batch.runs (plan.study_batches): a job
+# runs its samples of one variant and level in one process, in lock-step
+# (RUN_BATCH), and writes each run's row and curve into the run's folder.
+for _k, (_variant, _level, _samples) in enumerate(plan.study_batches(config)):
+
+    rule:
+        """A batch of the study's simulations: a variant, a level of the
+        swept setting, some samples."""
+        name:
+            f"simulate_{_k}"
+        input:
+            samples=f"{R}/study/samples_{_variant}.json",
+            scene=ancient(get_study_scene()),  # by its content: params.scene
+        output:
+            [f"{R}/study/runs/{_variant}/{_level}/s{s}/{kind}.json" for s in _samples for kind in ("result", "curve")],
+        params:
+            sets=get_level_sets(_level),
+            variant=_variant,
+            samples=get_batch_samples(_samples),
+            lanes=config["batch"]["lanes"],
+            out=get_batch_out(f"{R}/study/runs/{_variant}/{_level}"),
+            solver=get_solver_hash(),
+            scene=get_file_digest(get_study_scene()),
+            python=get_python,
+        log:
+            f"{R}/logs/study/{_variant}_{_level}_b{_k}.log",
+        threads: 1
+        resources:
+            runtime=get_batch_runtime(_samples),
+        conda:
+            ENV
+        shell:
+            RUN_BATCH
 
 
 rule collect:

@@ -6,6 +6,7 @@ import numpy as np
 
 from ..errors import InputError
 from .laws import Elastic
+from .memo import exact, memoized
 
 GEOM_TOL = 1e-9  # m: faces closer than this touch
 
@@ -63,7 +64,11 @@ class Block:
     def interpolate_points(self, axis, side, P, Q):
         """``interpolate`` at the points (P[i], Q[i]): (nodes (n, 4), weights
         (n, 4), count (n,)), each row's nodes and weights first, unused
-        slots node 0 and weight 0."""
+        slots node 0 and weight 0 (read-only: memo.py)."""
+        return _interpolate_points(self.lo, self.hi, self.cells, self.node0, self.rigid, axis, side, np.asarray(P),
+                                   np.asarray(Q))
+
+    def _interpolate_points(self, axis, side, P, Q):
         n = P.size
         nodes = np.zeros((n, 4), np.int64)
         weights = np.zeros((n, 4))
@@ -95,6 +100,13 @@ class Block:
         (plo, phi), (qlo, qhi) = rect
         return (int(np.sum((gp >= plo - GEOM_TOL) & (gp <= phi + GEOM_TOL)))
                 * int(np.sum((gq >= qlo - GEOM_TOL) & (gq <= qhi + GEOM_TOL))))
+
+
+@memoized(exact)
+def _interpolate_points(lo, hi, cells, node0, rigid, axis, side, P, Q):
+    """Block.interpolate_points of the box [lo, hi] (its geometry alone)."""
+    box = Block(-1, None, None, node0, np.asarray(lo), np.asarray(hi), cells, rigid)
+    return box._interpolate_points(axis, side, P, Q)
 
 
 def breakpoints(lo, hi, *lines):
@@ -160,7 +172,12 @@ def face_quadrature(rect, lines, refine=(1, 1), rule="simpson"):
     The weights sum to the rectangle's area, and their first moments to
     its centroid times its area, whatever the grids: a strip's resultant
     acts on its configured line.  ``rule`` 'vertices': the nodal rule
-    (``trapezoid``) instead."""
+    (``trapezoid``) instead.  (Read-only: memo.py.)"""
+    return _face_quadrature(rect, tuple(tuple(ls) for ls in lines), tuple(refine), rule)
+
+
+@memoized(exact)
+def _face_quadrature(rect, lines, refine, rule):
     (pp, wp), (pq, wq) = (RULES[rule](breakpoints(lo, hi, *ls), r) for (lo, hi), ls, r in zip(rect, lines, refine))
     P, Q = np.meshgrid(pp, pq, indexing="ij")
     return P.ravel(), Q.ravel(), np.outer(wp, wq).ravel()
@@ -189,6 +206,13 @@ def face_point(axis, coord, P, Q):
     pt = np.zeros(3)
     pt[axis], pt[(axis + 1) % 3], pt[(axis + 2) % 3] = coord, P, Q
     return pt
+
+
+def face_points(axis, coord, P, Q):
+    """``face_point`` at the points (P[i], Q[i]): (n, 3)."""
+    pts = np.zeros((len(P), 3))
+    pts[:, axis], pts[:, (axis + 1) % 3], pts[:, (axis + 2) % 3] = coord, P, Q
+    return pts
 
 
 def local_axes(axis, sign):

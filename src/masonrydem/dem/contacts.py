@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import kernels as K
-from .blocks import GEOM_TOL, check_3, face_point, face_quadrature, face_refine, local_axes, refine_axes
+from .blocks import GEOM_TOL, check_3, face_points, face_quadrature, face_refine, local_axes, refine_axes
 from ..errors import InputError
 from .laws import JointProps
 
@@ -53,50 +53,46 @@ class Strip:
 
 @dataclass
 class SubContacts:
-    """Growing lists of sub-contacts (packed into a kernels.Contacts)."""
-    nodes: list = field(default_factory=list)
-    cnt: list = field(default_factory=list)
-    w: list = field(default_factory=list)
-    axes: list = field(default_factory=list)
-    area: list = field(default_factory=list)
-    par: list = field(default_factory=list)
-    point: list = field(default_factory=list)   # the sub-contact's position
+    """Growing blocks of sub-contacts (packed into a kernels.Contacts): a
+    joint's or a strip's sub-contacts are added at once, as arrays."""
+    chunks: list = field(default_factory=list)
+    n: int = 0
 
-    def add(self, nodes_a, w_a, nodes_b, w_b, axes, area, par, point):
-        nodes = np.zeros(8, np.int64)
-        w = np.zeros(8)
-        nodes[:len(nodes_a)] = nodes_a
-        w[:len(w_a)] = w_a
-        nodes[4:4 + len(nodes_b)] = nodes_b
-        w[4:4 + len(w_b)] = w_b
-        self.nodes.append(nodes)
-        self.w.append(w)
-        self.cnt.append((len(nodes_a), len(nodes_b)))
-        self.axes.append(axes)
-        self.area.append(area)
-        self.par.append(par)
-        self.point.append(point)
+    def add_many(self, nodes_a, w_a, cnt_a, nodes_b, w_b, cnt_b, axes, area, par, points):
+        """Sub-contacts i = 0 .. m-1: side A's nodes and weights the first
+        cnt_a[i] of row i of nodes_a, w_a (at most 4, the others node 0 and
+        weight 0), side B's likewise; ``axes`` and ``par`` shared, ``area``
+        and ``points`` (m, 3) each its own."""
+        m = len(area)
+        nodes = np.zeros((m, 8), np.int64)
+        w = np.zeros((m, 8))
+        ka, kb = np.shape(nodes_a)[1], np.shape(nodes_b)[1]
+        nodes[:, :ka], w[:, :ka] = nodes_a, w_a
+        nodes[:, 4:4 + kb], w[:, 4:4 + kb] = nodes_b, w_b
+        cnt = np.stack([np.broadcast_to(cnt_a, m), np.broadcast_to(cnt_b, m)], axis=1)
+        self.chunks.append((nodes, w, cnt, np.broadcast_to(axes, (m, 9)), np.asarray(area, float),
+                            np.broadcast_to(par, (m, K.N_JP)), np.asarray(points, float).reshape(m, 3)))
+        self.n += m
 
     def __len__(self):
-        return len(self.area)
+        return self.n
 
     def pack(self):
         """(kernels.Contacts without rigid levers, positions (n, 3)).  The
         axes, parameters, state and work space are Fortran-ordered, a column
         per quantity, so that the law's loop over the sub-contacts compiles to
         vector code (kernels/joints.py)."""
-        n = len(self.area)
-
-        def col(rows, m):
-            return np.asfortranarray(np.array(rows, float).reshape(n, m))
-        nodes = np.array(self.nodes, np.int32).reshape(n, 8)     # int32: half the bytes a step streams
+        n = self.n
+        empty = (np.zeros((0, 8), np.int64), np.zeros((0, 8)), np.zeros((0, 2), np.int64), np.zeros((0, 9)),
+                 np.zeros(0), np.zeros((0, K.N_JP)), np.zeros((0, 3)))
+        nodes, w, cnt, axes, area, par, points = (np.concatenate(parts) for parts in zip(empty, *self.chunks))
         return K.Contacts(
-            nodes=nodes, cnt=np.array(self.cnt, np.int64).reshape(n, 2), w=np.array(self.w, float).reshape(n, 8),
+            nodes=nodes.astype(np.int32), cnt=cnt.astype(np.int64), w=w,     # int32: half the bytes a step streams
             body=np.zeros((0, 2), np.int64), lever=np.zeros((0, 2, 3)),
-            axes=col(self.axes, 9), area=np.array(self.area, float).reshape(n),
-            par=col(self.par, K.N_JP), state=np.zeros((n, K.N_JS), order="F"),
+            axes=np.asfortranarray(axes), area=area,
+            par=np.asfortranarray(par), state=np.zeros((n, K.N_JS), order="F"),
             force=np.zeros((n, 3), order="F"), gptr=np.zeros(1, np.int64), gs=np.zeros(0, np.int64), gw=np.zeros(0),
-        ), np.array(self.point, float).reshape(n, 3)
+        ), points
 
 
 def with_gather(sc, n_nodes):
@@ -161,9 +157,7 @@ def _joint(cid, sc, lower, upper, axis, rect, law, props, refine, rule):
     P, Q, A = face_quadrature(rect, zip(a.face_grid(axis), b.face_grid(axis)), face_refine(refine, axis), rule)
     na, wa, ca = a.interpolate_points(axis, side_a, P, Q)
     nb, wb, cb = b.interpolate_points(axis, side_b, P, Q)
-    for i, (pp, qq, ar) in enumerate(zip(P, Q, A)):
-        sc.add(na[i, :ca[i]], wa[i, :ca[i]], nb[i, :cb[i]], wb[i, :cb[i]], axes, ar, row,
-               face_point(axis, lower.hi[axis], pp, qq))
+    sc.add_many(na, wa, ca, nb, wb, cb, axes, A, row, face_points(axis, lower.hi[axis], P, Q))
     return Contact(cid, a.id, b.id, axis, axes[:3].copy(), float(A.sum()), slice(start, len(sc)), props)
 
 
@@ -215,20 +209,21 @@ def bearing_strip(sc, blocks, index, name, axis, coord, normal, rect, kn, veloci
     if friction > 0:
         row[K.JP_KS], row[K.JP_TANPHI] = kn, friction
     axes = local_axes(axis, float(normal))
-    points = []
+    start, area = len(sc), []
     for b, side, r in faces_on_plane(blocks, axis, coord, normal, rect):
-        points += [(b.interpolate(axis, side, pp, qq), ar, face_point(axis, coord, pp, qq))
-                   for pp, qq, ar in zip(*face_quadrature(r, zip(b.face_grid(axis)), face_refine(refine, axis)))]
-    if not points:
-        raise InputError(f"{where}.rect", "the strip touches no block face")
-    start = len(sc)
-    for (na, wa), ar, pt in points:
+        P, Q, A = face_quadrature(r, zip(b.face_grid(axis)), face_refine(refine, axis))
+        na, wa, ca = b.interpolate_points(axis, side, P, Q)
+        pts = face_points(axis, coord, P, Q)
         if turn_index >= 0 and deformable:
-            sc.add(na, wa, [-(index + 1), -(turn_index + 1)], [1.0, (pt[q if long_p else p] - centre) / half],
-                   axes, ar, row, pt)
+            nb = np.broadcast_to([-(index + 1), -(turn_index + 1)], (len(A), 2))
+            wb = np.stack([np.ones(len(A)), (pts[:, q if long_p else p] - centre) / half], axis=1)
+            sc.add_many(na, wa, ca, nb, wb, 2, axes, A, row, pts)
         else:
-            sc.add(na, wa, [-(index + 1)], [1.0], axes, ar, row, pt)
+            sc.add_many(na, wa, ca, np.full((len(A), 1), -(index + 1)), np.ones((len(A), 1)), 1, axes, A, row, pts)
+        area += A.tolist()
+    if not area:
+        raise InputError(f"{where}.rect", "the strip touches no block face")
     x0 = np.zeros(3)
     x0[axis], x0[p], x0[q] = coord, np.mean(rect[0]), np.mean(rect[1])
-    return Strip(name, axis, int(normal), float(kn), slice(start, len(sc)), float(sum(p[1] for p in points)), x0,
+    return Strip(name, axis, int(normal), float(kn), slice(start, len(sc)), float(sum(area)), x0,
                  velocity, index, turn=(p if long_p else q) if turn_index >= 0 else -1, turn_index=turn_index)

@@ -2,7 +2,7 @@
 parameters -> kernel rows.
 
 The laws themselves are small jitted functions in ``kernels.zones`` and
-``kernels.joints``.  Each law is declared once, in ``BLOCK_MODELS`` or
+``kernels.joint_laws``.  Each law is declared once, in ``BLOCK_MODELS`` or
 ``JOINT_LAWS``: its name in a scene (``physics.blocks`` /
 ``physics.joints``; the scene schema takes its choices from these
 tables), its kernel id and the parameters it reads, which are validated
@@ -141,7 +141,7 @@ JOINT_LAWS = {law.name: law for law in (
     JointLaw("brittle_coulomb", K.JOINT_BRITTLE_COULOMB, ("kn", "ks", "ft", "c", "phi")),
     JointLaw("coupled_softening", K.JOINT_COUPLED, ("kn", "ks", "ft", "c", "phi", "GI", "GII")),
     JointLaw("friction", K.JOINT_FRICTION, ("kn", "ks", "phi")),
-    # variants of coupled_softening for the model-form study (kernels.joints._softened)
+    # variants of coupled_softening for the model-form study (kernels.joint_laws._softened)
     JointLaw("coupled_exponential", K.JOINT_COUPLED_EXPONENTIAL, ("kn", "ks", "ft", "c", "phi", "GI", "GII")),
     JointLaw("coupled_lourenco_rots", K.JOINT_COUPLED_ADDITIVE, ("kn", "ks", "ft", "c", "phi", "GI", "GII")),
     JointLaw("coupled_friction_slip", K.JOINT_COUPLED_FRICTION_SLIP, ("kn", "ks", "ft", "c", "phi", "GI", "GII")),
@@ -183,7 +183,7 @@ class JointProps:
     """Zero-thickness joint: stiffnesses kn, ks (Pa/m), tensile strength ft
     and cohesion c (Pa), friction angle phi (deg), fracture energies GI, GII
     (N/m), and residual = tan(phi_r) / tan(phi), the residual friction
-    that a damaged joint's friction falls to (kernels.joints._coulomb_return;
+    that a damaged joint's friction falls to (kernels.joint_laws._coulomb_return;
     1: phi throughout), and the dilation angle psi (deg).  A law reads
     only the fields its table entry names."""
     kn: float

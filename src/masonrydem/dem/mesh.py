@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from .memo import exact, memoized
 
 # Hexahedron corner c = i + 2 j + 4 k for the corner at offset (i, j, k).
 # Overlay A: corner tetrahedra at corners 1, 2, 4, 7 and the central one on
@@ -40,7 +41,13 @@ class TetMesh:
 
 
 def box_mesh(lo, hi, cells):
-    """Structured mesh of the box [lo, hi] with cells = (nx, ny, nz)."""
+    """Structured mesh of the box [lo, hi] with cells = (nx, ny, nz)
+    (read-only: memo.py)."""
+    return _box_mesh(np.asarray(lo, float), np.asarray(hi, float), tuple(int(c) for c in cells))
+
+
+@memoized(exact)
+def _box_mesh(lo, hi, cells):
     lo = np.asarray(lo, float)
     hi = np.asarray(hi, float)
     nx, ny, nz = (int(c) for c in cells)

@@ -6,11 +6,16 @@ pair over a state (in the manner of JAX-MD's simulate.py):
 
 Quasi-static mode: a unit pseudo step and scaled masses (density scaling
 from the Gershgorin bounds of the stiffness, stability.py), local damping;
-dynamic mode: physical masses.  The state's arrays are the kernels'
-containers, advanced in place by the step kernel (kernels.step); the
-state itself, its step count and velocity factor, is a new value at every
-advance.  stops.py runs an advance loop under stop rules; docs/formulation.md,
-section 8, gives the equations.
+dynamic mode: physical masses.  docs/formulation.md, section 8, gives the
+equations.
+
+The arrays live in a Batch: the kernels' containers with a lane per
+simulation of one mesh (kernels/layout.py), advanced in place by the step
+kernel (kernels.step).  A State is one lane's simulation: its arrays are
+views of its lane, and its step count, velocity factor and energy are a
+new value at every advance.  ``init`` makes a batch of one; lockstep.py
+advances the lanes of a larger batch together.  stops.py runs an advance
+loop under stop rules.
 """
 import math
 from typing import NamedTuple
@@ -20,7 +25,6 @@ import numpy as np
 from . import kernels as K
 from ..errors import InputError
 from .history import from_kernel
-from .kernels.step import specialised
 from .stability import DYNAMIC, QUASI_STATIC, critical_step, physical_masses, scaled_masses, time_step
 
 
@@ -57,25 +61,44 @@ class Integrator(NamedTuple):
 
 
 class State(NamedTuple):
-    """The model's state: the kernels' containers (nodes: u, v, f, masses,
-    prescribed velocities; zones; joints; bearings; rigid bodies), the work
-    done on the model since the start and its largest value, the step
-    count, the velocity factor of the prescribed velocities, the initial
-    kinetic energy (set at the first advance) and whether the last step
-    was finite."""
+    """One simulation: its lane of a Batch, whose arrays its properties
+    view (nodes: u, v, f, masses, prescribed velocities; zones; joints;
+    bearings; rigid bodies; the work done on the model since the start
+    and its largest value), the step count, the velocity factor of the
+    prescribed velocities, the initial kinetic energy (set at the first
+    advance) and whether the last step was finite."""
     assembly: object
     integrator: Integrator
-    nodes: K.Nodes
-    zones: K.Zones
-    joints: K.Contacts
-    bearings: K.Contacts
-    bodies: K.Bodies
-    scratch: K.Scratch
-    work: np.ndarray
+    batch: object
+    lane: int
     step: int = 0
     velocity_factor: float = 1.0
     energy_in: float = None
     finite: bool = True
+
+    @property
+    def nodes(self):
+        return self.batch.view("nodes", self.lane)
+
+    @property
+    def zones(self):
+        return self.batch.view("zones", self.lane)
+
+    @property
+    def joints(self):
+        return self.batch.view("joints", self.lane)
+
+    @property
+    def bearings(self):
+        return self.batch.view("bearings", self.lane)
+
+    @property
+    def bodies(self):
+        return self.batch.view("bodies", self.lane)
+
+    @property
+    def work(self):
+        return self.batch.work[:, self.lane]
 
 
 class Controls(NamedTuple):
@@ -87,7 +110,14 @@ class Controls(NamedTuple):
 
 
 def init(assembly, numerics):
-    """The state of ``assembly`` at rest, with its masses and step."""
+    """The state of ``assembly`` at rest, with its masses and step: the one
+    lane of a batch of one."""
+    from .batch import Batch
+    return Batch(assembly, numerics, 1).load(0, assembly)
+
+
+def _checked(numerics):
+    """(mode, damping, safety) of ``numerics``, refused where invalid."""
     mode, safety, damping = numerics.mode, numerics.safety, numerics.damping
     if mode not in (QUASI_STATIC, DYNAMIC):
         raise InputError("solver.mode", f"must be {QUASI_STATIC!r} or {DYNAMIC!r}, got {mode!r}")
@@ -99,7 +129,14 @@ def init(assembly, numerics):
     damping = 0.0 if damping is None else damping
     if not (0.0 <= damping < 1.0):
         raise InputError("solver.damping", f"must be in [0, 1), got {damping!r}")
-    a, alpha = assembly, float(damping)
+    return mode, float(damping), safety
+
+
+def _lane_arrays(assembly, numerics):
+    """A run's own arrays at rest (by container and field, as the
+    assembly's, without a lane axis) and its Integrator."""
+    a = assembly
+    mode, alpha, safety = _checked(numerics)
     free = a.nodes.fixed.min(axis=1) == 0
     knode = a.stiffness.max(axis=1)
     floating = np.flatnonzero(free & (knode <= 0))
@@ -109,29 +146,24 @@ def init(assembly, numerics):
     k = np.where(a.stiffness > 0, a.stiffness, knode[:, None])
     mass, crit = _inertia(mode, k, np.repeat(a.nodes.mgrav[:, None], 3, axis=1), free, alpha, safety)
     n = a.n
-    nodes = a.nodes._replace(u=np.zeros((n, 3)), v=np.zeros((n, 3)), f=np.zeros((n, 3)), mass=mass,
-                             fixed=a.nodes.fixed.copy(), vpres=a.nodes.vpres.copy())
-    bodies = a.bodies
+    z3 = np.zeros((n, 3))
+    own = dict(nodes=dict(u=z3, v=z3, f=z3, mass=mass, mgrav=a.nodes.mgrav, vpres=a.nodes.vpres, fext=a.nodes.fext),
+               zones=dict(par=a.zones.par, state=np.zeros_like(a.zones.state), stress=np.zeros_like(a.zones.stress)),
+               cells=dict(scale=a.cells.scale),
+               joints=dict(par=a.joints.par, state=a.joints.state, force=np.zeros_like(a.joints.force)),
+               bearings=dict(par=a.bearings.par, state=a.bearings.state, force=np.zeros_like(a.bearings.force)),
+               bodies=dict(R=a.bodies.R, om=a.bodies.om, mom=a.bodies.mom, iinv=a.bodies.iinv, ompres=a.bodies.ompres,
+                           fl=a.bodies.fl, load_force=a.bodies.load_force))
     if a.rigid:
         iinv, crit_r = _rotations(a, mode, alpha, safety)
         crit += crit_r
-        bodies = a.bodies._replace(R=a.bodies.R.copy(), om=np.zeros((n, 3)), mom=np.zeros((n, 3)), iinv=iinv,
-                                   ompres=a.bodies.ompres.copy(), fl=np.zeros((n, 3)))
+        own["bodies"].update(om=z3, mom=z3, iinv=iinv, fl=z3)
     dt, dt_crit = time_step(mode, crit, safety, numerics.dt)
-    nt, nc = a.zones.tets.shape[0], a.cells.nodes.shape[0]
-    gsize = np.diff(a.zones.gptr).max() if nt else 1
-    scratch = K.Scratch(np.zeros((gsize, 6)), np.zeros(gsize), np.zeros((max(nt, 1), 2), np.int64), np.zeros((3, 3)),
-                        np.zeros((3, 3)), np.zeros((nc, 24)), np.zeros((a.cells.K.shape[0], nc, 24)))
     integ = Integrator(mode=mode, dt=dt, dt_crit=dt_crit, alpha=alpha,
                        c=min(dt / dt_crit / math.sqrt(1.0 + alpha), 0.999), h_min=a.h_min,
                        rotation_limit=math.inf if a.large else float(numerics.rotation_limit),
                        gravity_on=int(np.any(a.gravity != 0.0)), kernel=None)
-    state = State(a, integ, nodes, a.zones._replace(state=np.zeros_like(a.zones.state),
-                                                    stress=np.zeros_like(a.zones.stress)),
-                  a.joints._replace(state=np.copy(a.joints.state), force=np.zeros_like(a.joints.force)),
-                  a.bearings._replace(state=np.copy(a.bearings.state), force=np.zeros_like(a.bearings.force)),
-                  bodies, scratch, np.zeros(2))
-    return state._replace(integrator=integ._replace(kernel=specialised(_kernel_args(state, Controls(), 0))))
+    return own, integ
 
 
 def _inertia(mode, k, phys, free, alpha, safety):
@@ -165,49 +197,56 @@ def _ramp(controls):
     return 1.0 / controls.ramp_steps if controls.ramp_steps else 0.0
 
 
-def _kernel_args(state, controls, n, hist=None):
-    a, integ = state.assembly, state.integrator
-    ctl = K.Controls(int(state.step), integ.dt, integ.alpha, float(controls.load_factor),
-                     float(state.velocity_factor), _ramp(controls), a.gravity)
-    if hist is None:
-        hist = np.empty((n, K.h_width(len(a.monitor_names))))
-    return (a.zlaw, a.jlaw, int(a.rigid), int(a.large), integ.gravity_on, n, ctl, state.nodes, state.zones, a.cells,
-            state.joints, state.bearings, state.bodies, a.monitors, hist, state.work, state.scratch)
-
-
 def begin(state, controls):
     """The state at the start of a stage under ``controls``: the velocity
     factor at zero when its velocities ramp up, else at one."""
     return state._replace(velocity_factor=0.0 if controls.ramp_steps else 1.0)
 
 
-def advance(state, controls, n):
-    """Advances ``n`` steps (fewer if a step is not finite: the state says
-    so).  Returns (the new state, the History of every step)."""
+def started(state):
+    """The state with its initial kinetic energy, set at its first advance."""
+    if state.energy_in is not None:
+        return state
+    nodes = state.nodes
+    free = nodes.fixed == 0
+    return state._replace(energy_in=float(0.5 * np.sum((nodes.mass * nodes.v ** 2)[free])))
+
+
+def advanced(state, controls, rows, finite):
+    """(the new state, the History) of ``state`` after the rows of history
+    (done, columns) its chunk under ``controls`` made; ``finite``: whether
+    its last step was."""
     a = state.assembly
-    if state.energy_in is None:
-        free = state.nodes.fixed == 0
-        state = state._replace(energy_in=float(0.5 * np.sum((state.nodes.mass * state.nodes.v ** 2)[free])))
-    args = _kernel_args(state, controls, n)
-    code, done = state.integrator.kernel(*args)
-    hist = args[14][:done]
+    done = rows.shape[0]
     ramp = _ramp(controls)
     # loading at full speed (the velocity ramp is over) at each step
     loading = state.velocity_factor + np.arange(1, done + 1) * ramp >= 1.0
     for g in range(len(a.monitor_names)):
-        hist[:, K.h_disp(g)] /= max(1, int(np.sum(a.monitors.group == g)))
+        rows[:, K.h_disp(g)] /= max(1, int(np.sum(a.monitors.group == g)))
     state = state._replace(step=state.step + done, velocity_factor=min(1.0, state.velocity_factor + done * ramp),
-                           finite=code != K.ST_NONFINITE)
-    return state, from_kernel(hist, loading, a.monitor_names)
+                           finite=finite)
+    return state, from_kernel(rows, loading, a.monitor_names)
+
+
+def advance(state, controls, n):
+    """Advances ``n`` steps (fewer if a step is not finite: the state says
+    so) the one lane of a batch of one (lockstep.py advances larger
+    batches).  Returns (the new state, the History of every step)."""
+    batch = state.batch
+    if batch.lanes != 1:
+        raise ValueError("advance: a batch of several lanes advances by lockstep.run")
+    state = started(state)
+    batch.set_lane(state, controls)
+    done, rows, finite = batch.advance(n)
+    return advanced(state, controls, np.ascontiguousarray(rows[:, :, 0]), bool(finite[0]))
 
 
 def prescribe(state, nodes, velocity):
     """The state with the prescribed velocity of ``nodes`` (indices, a mask
     or a slice) set to ``velocity`` (m per step or per second; it acts on
-    their prescribed components only)."""
-    vpres = state.nodes.vpres.copy()
-    vpres[nodes] = velocity
-    return state._replace(nodes=state.nodes._replace(vpres=vpres))
+    their prescribed components only), in its lane."""
+    state.nodes.vpres[nodes] = velocity
+    return state
 
 
 def prescribe_rotation(state, block, velocity):
@@ -215,13 +254,13 @@ def prescribe_rotation(state, block, velocity):
     rigid block whose rotation is prescribed (``Model.fix_rotation``)."""
     if not state.assembly.rigid:
         raise InputError(f"blocks[{block.id}]", "only rigid blocks rotate")
-    fixed = state.bodies.rfixed[block.node0] == 1
+    bodies = state.bodies
+    fixed = bodies.rfixed[block.node0] == 1
     w = np.asarray(velocity, float)
     if np.any(w[~fixed] != 0):
         raise InputError(f"blocks[{block.id}]", "only prescribed rotations take a velocity (Model.fix_rotation)")
-    ompres = state.bodies.ompres.copy()
-    ompres[block.node0] = np.where(fixed, w, 0.0)
-    return state._replace(bodies=state.bodies._replace(ompres=ompres))
+    bodies.ompres[block.node0] = np.where(fixed, w, 0.0)
+    return state
 
 
 # --- what a state says ------------------------------------------------------

@@ -1,5 +1,10 @@
 """Running a stage: advance in chunks until a stop rule holds.
 
+``stage`` is the stage as a program (lockstep.py): a generator that
+yields each chunk's lockstep.Advance and is sent back the advanced state
+and its History, so that one simulation runs alone (``run``) or in a
+lane of a batch beside others, by the same code.
+
 The stop rules and the divergence guard are small pure functions of the
 state, the chunk's last row and the peak; ``run`` applies them in order
 after every chunk (docs/formulation.md, section 9):
@@ -24,7 +29,8 @@ import numpy as np
 
 from ..errors import InputError
 from .history import PEAK_UNBALANCE, chunk_peaks, concat, decimate, higher
-from .solver import Controls, advance, begin, max_rotation
+from .lockstep import Advance, drive
+from .solver import Controls, begin, max_rotation
 from .stability import QUASI_STATIC
 
 
@@ -121,11 +127,16 @@ def stop_rule(stops, g, last, peak, b=None):
 
 
 def run(state, max_steps, stops=Stops(), controls=Controls(), chunk=200, record_every=10, progress=None):
+    """``stage`` run alone: (state, Record, Ending)."""
+    return drive(stage(state, max_steps, stops, controls, chunk, record_every, progress))
+
+
+def stage(state, max_steps, stops=Stops(), controls=Controls(), chunk=200, record_every=10, progress=None):
     """Advances ``state`` in chunks of ``chunk`` steps under ``controls``
     (from the start of the stage: ``solver.begin``) until a rule of
-    ``stops`` holds or ``max_steps`` are done.  Returns (state, Record,
-    Ending).  ``progress(state, chunk_history)`` is called after every
-    chunk."""
+    ``stops`` holds or ``max_steps`` are done: a program (module
+    docstring) that returns (state, Record, Ending).
+    ``progress(state, chunk_history)`` is called after every chunk."""
     t0 = time.perf_counter()
     a = state.assembly
     g = a.monitor(stops.monitor) if stops.monitor is not None else None
@@ -139,7 +150,7 @@ def run(state, max_steps, stops=Stops(), controls=Controls(), chunk=200, record_
     chunks = high_ratio = 0
     while state.step - start < max_steps:
         chunks += 1
-        state, h = advance(state, controls, min(chunk, max_steps - (state.step - start)))
+        state, h = yield Advance(state, controls, min(chunk, max_steps - (state.step - start)))
         found = chunk_peaks(h, balance)
         peaks = [higher(p, c) for p, (_, c) in zip(peaks, found)]
         rows.append(decimate(h, record_every, [i for i, _ in found]))

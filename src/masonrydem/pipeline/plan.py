@@ -161,6 +161,31 @@ def study_level_dirs(config):
     return [f"{study(config).sweep_name}{x!r}" for x in study_levels(config)]
 
 
+def batches(samples, config):
+    """``samples`` (numbers) in the batches of config batch.runs each: a
+    simulation job each."""
+    size = config["batch"]["runs"]
+    return [samples[i:i + size] for i in range(0, len(samples), size)]
+
+
+def study_batches(config):
+    """The study's simulations as jobs: [(variant, level folder, samples)]."""
+    samples = list(range(study(config).samples))
+    return [(v, d, b) for v in study_variants(config) for d in study_level_dirs(config) for b in batches(samples, config)]
+
+
+def subsample_batches(config):
+    """The accuracy subsample's simulations at fine settings as jobs:
+    [(variant, precompression in MPa, samples)] (none without the accuracy
+    stage)."""
+    if not config.get("accuracy"):
+        return []
+    sub = config["accuracy"]["subsample"]
+    samples = list(range(sub["n_samples"]))
+    return [(study(config).regression_variant, sv, b) for sv in sub["precompression_mpa"]
+            for b in batches(samples, config)]
+
+
 def level_override(config, level):
     """The scene override of a level: by its folder name (the wildcard) or
     its value as shown (a runs table's level column)."""

@@ -82,18 +82,3 @@ def record_times_error(record):
 def building_report(argv=None):
     """Whether Snakemake was called to build a report (its --report option)."""
     return any(a == "--report" or a.startswith("--report=") for a in (sys.argv if argv is None else argv))
-
-
-def stop_rate_limiter_timers():
-    """Once the workflow has ended: cancel the timers of Snakemake's job
-    rate limiter (profiles/default).  Every scheduling round arms one,
-    to schedule again one timespan (30 s) later, as a non-daemon thread,
-    so that Snakemake waited up to 30 s after its last job before it
-    exited.  Only the rate limiter's timers are cancelled (Snakemake 9's
-    JobScheduler._schedule_reevalutation); under another name they would
-    merely run out."""
-    import threading
-    for timer in threading.enumerate():
-        if isinstance(timer, threading.Timer) and \
-                "_schedule_reevalutation" in getattr(timer.function, "__qualname__", ""):
-            timer.cancel()

@@ -111,7 +111,7 @@ def landing(runs, stats, excluded, level, report, card=None, band=None):
                 levels=f"{', '.join(f'{x:g}' for x in levels)} {level.unit}".rstrip(),
                 blocks=one("blocks"), cells=one("cells"), refine=one("subcontact_refine"),
                 solver=one("solver_version"), excluded=excluded,
-                cpu_h=float(runs["wall_time_s"].sum()) / 3600 if "wall_time_s" in runs else float("nan"),
+                cpu_h=float(np.sum(runs.get("wall_time_s", np.nan) / runs.get("lanes", 1))) / 3600,
                 table=_rst_table(head, rows), paper=paper_findings(card, band))
 
 

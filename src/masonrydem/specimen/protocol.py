@@ -1,8 +1,11 @@
-"""The loading protocol of one simulation, as stage functions: build the
-specimen, precompress it, then load it under its test (bending, tension
-or triplet shear, displacement controlled); ``judge`` says how the run
-ended, and ``simulate`` chains them into an Outcome (results.py makes the
-row).  docs/formulation.md, sections 9 and 10: stop rules and peaks.
+"""The loading protocol of one simulation, as stage programs
+(dem/lockstep.py): precompress the specimen, then load it under its test
+(bending, tension or triplet shear, displacement controlled); ``judge``
+says how the run ended, and ``simulation`` chains them into an Outcome
+(row.py makes the row).  ``simulate`` builds a scene's specimen and runs
+its simulation alone; ``simulate_many`` runs many scenes, those of one
+mesh in the lanes of a batch.  docs/formulation.md, sections 9 and 10:
+stop rules and peaks.
 """
 import math
 import sys
@@ -12,9 +15,11 @@ from typing import NamedTuple
 import numpy as np
 
 from ..dem.history import PEAK_UNBALANCE, unbalance
+from ..dem import lockstep
+from ..dem.batch import Batch, lane_key
 from ..dem.solver import Controls, init, prescribe
 from .build import build
-from ..dem.stops import Stops, run
+from ..dem.stops import Stops, stage
 
 GOOD = ("load_drop", "displacement_limit", "past_peak")
 CHUNK = 500          # steps between the stop rules' checks
@@ -86,19 +91,20 @@ def _stage(name, progress, share, u0=0.0):
 
 
 def precompress(state, specimen, progress=False):
-    """The precompression stage: the applied pressure at rest, run until the
-    unbalanced-force ratio falls below ratio_tol (or max_steps)."""
+    """The precompression stage (a program): the applied pressure at rest,
+    run until the unbalanced-force ratio falls below ratio_tol (or
+    max_steps)."""
     pre, num = specimen.scene.loading.precompression, specimen.scene.discretization
     shown = _stage("precompression", progress, lambda h: math.log10(max(h.ratio[-1], 1e-300)) / math.log10(pre.ratio_tol))
-    state, record, ending = run(state, pre.max_steps, Stops(ratio_tol=pre.ratio_tol), chunk=CHUNK,
-                                record_every=num.record_every, progress=shown)
+    state, record, ending = yield from stage(state, pre.max_steps, Stops(ratio_tol=pre.ratio_tol), chunk=CHUNK,
+                                             record_every=num.record_every, progress=shown)
     if shown:
         shown.end(state, ending)
     return state, Stage(record, ending)
 
 
 def load(state, specimen, u0, progress=False):
-    """The test stage: the drive moves at its rate (after a ramp) until the
+    """The test stage (a program): the drive moves at its rate (after a ramp) until the
     load line has moved max_displacement from u0, or the load has fallen
     below load_drop of its peak (or max_steps).  A peak counts near
     equilibrium, the load balanced by the supports (history.py)."""
@@ -107,8 +113,8 @@ def load(state, specimen, u0, progress=False):
     stops = Stops(disp_limit=u0 + drive.max_displacement, load_drop=drive.load_drop, monitor="load",
                   balance="support", past_peak=drive.past_peak)
     shown = _stage(specimen.test, progress, lambda h: (h.disp[-1, 0] - u0) / drive.max_displacement, u0)
-    state, record, ending = run(state, drive.max_steps, stops, Controls(ramp_steps=drive.ramp_steps), chunk=CHUNK,
-                                record_every=num.record_every, progress=shown)
+    state, record, ending = yield from stage(state, drive.max_steps, stops, Controls(ramp_steps=drive.ramp_steps),
+                                             chunk=CHUNK, record_every=num.record_every, progress=shown)
     if shown:
         shown.end(state, ending)
     return state, Stage(record, ending)
@@ -145,9 +151,8 @@ def judge(pre, test, peak, ramp_load, scene):
 
 
 def simulate(scene, progress=True):
-    """Runs a typed scene: builds its specimen, precompresses it (if it has
-    a pressure), loads it if the precompression converged or ran its steps,
-    and judges the run.  Returns an Outcome."""
+    """Runs a typed scene alone: builds its specimen, then its
+    ``simulation``.  Returns an Outcome."""
     t0 = time.perf_counter()
     specimen = build(scene)
     if progress:
@@ -155,15 +160,24 @@ def simulate(scene, progress=True):
         print(f"[build] {len(specimen.units)} units, {len(specimen.joints)} joints: {a.zones.tets.shape[0]} tetrahedra, "
               f"{a.cells.nodes.shape[0]} linear cells, {a.joints.area.size} sub-contacts ({time.perf_counter() - t0:.1f} s)",
               file=sys.stderr, flush=True)
-    state = init(specimen.assembly, scene.numerics)
+    return lockstep.drive(simulation(specimen, init(specimen.assembly, scene.numerics), progress, t0))
+
+
+def simulation(specimen, state, progress=False, t0=None):
+    """A specimen's simulation from its state at rest (a program,
+    dem/lockstep.py): precompresses it (if it has a pressure), loads it if
+    the precompression converged or ran its steps, and judges the run.
+    Returns an Outcome; its wall time from ``t0`` (None: now)."""
+    t0 = time.perf_counter() if t0 is None else t0
+    scene = specimen.scene
     pre = test = None
     u0 = 0.0
     if scene.loading.precompression.pressure > 0:
-        state, pre = precompress(state, specimen, progress)
+        state, pre = yield from precompress(state, specimen, progress)
         u0 = float(pre.record.last.disp_of("load")[0])
     start = state.step
     if pre is None or pre.ending.status in ("converged", "max_steps"):
-        state, test = load(state, specimen, u0, progress)
+        state, test = yield from load(state, specimen, u0, progress)
     peak = test.record.peaks[test.record.history.group("load")] if test is not None else None
     ramp_load = None
     if test is not None:
@@ -172,6 +186,54 @@ def simulate(scene, progress=True):
         ramp_load = float(ramp.max()) if ramp.size else None
     status, message = judge(pre and pre.ending, test and test.ending, peak, ramp_load, scene)
     return Outcome(specimen, state, pre, test, u0, start, status, message, time.perf_counter() - t0)
+
+
+def simulate_many(scenes, finish, lanes):
+    """Runs the typed ``scenes`` quietly, those that share a mesh and
+    numerics in the lanes of a batch (at most ``lanes`` at a time), and
+    calls ``finish(index, outcome, error)`` for each as it ends (error:
+    the exception of a scene that could not be built or run, outcome
+    None), while its state is still in its lane.  Each scene's Outcome is
+    the one ``simulate`` gives, bit for bit.  Specimens are built as lanes
+    need them; one whose mesh differs from the batch's is kept for a batch
+    of its own."""
+    pending = list(enumerate(scenes))[::-1]      # popped from the end: in order
+    held = []                                    # built, for a later batch: (i, specimen, key, t0)
+
+    def built():
+        """The next specimen in order, (i, specimen, key, t0), or None."""
+        while pending:
+            i, scene = pending.pop()
+            t0 = time.perf_counter()
+            try:
+                specimen = build(scene)
+                return i, specimen, lane_key(specimen.assembly, scene.numerics), t0
+            except Exception as e:      # nothing lost: the scene's row says why
+                finish(i, None, e)
+        return None
+
+    def job(i, specimen, t0):
+        return lockstep.Job(specimen.assembly, lambda state: simulation(specimen, state, False, t0),
+                            lambda outcome, error: finish(i, outcome, error))
+
+    while True:
+        first = held.pop(0) if held else built()
+        if first is None:
+            return
+        key = first[2]
+        batch = Batch(first[1].assembly, first[1].scene.numerics, min(lanes, 1 + len(pending) + len(held)))
+
+        def jobs():
+            yield job(first[0], first[1], first[3])
+            for h in [h for h in held if h[2] == key]:
+                held.remove(h)
+                yield job(h[0], h[1], h[3])
+            while (nxt := built()) is not None:
+                if nxt[2] == key:
+                    yield job(nxt[0], nxt[1], nxt[3])
+                else:
+                    held.append(nxt)
+        lockstep.run(batch, jobs())
 
 
 DROP_WINDOW = 1e-4   # m: the post-peak branch a row describes (drop_after_peak, post_peak)

@@ -70,6 +70,7 @@ class Row:
     subcontacts: int = None
     max_rotation_rad: float = NAN
     wall_time_s: float = NAN
+    lanes: int = 1
     solver_version: str = None
     startup_s: float = NAN
 
@@ -132,9 +133,9 @@ def error_row(scene, error, wall_time_s=NAN, variant=None, sample=None, inputs=N
                wall_time_s=wall_time_s, solver_version=version())
 
 
-def outcome_row(outcome, variant=None, sample=None, inputs=None):
+def outcome_row(outcome, variant=None, sample=None, inputs=None, lanes=1):
     """The row of a simulation (protocol.Outcome); ``inputs``: a study's
-    (name -> the scene setting it drives)."""
+    (name -> the scene setting it drives); ``lanes``: of its batch."""
     sp, state, scene = outcome.specimen, outcome.state, outcome.specimen.scene
     test = outcome.test
     peak = test.record.peaks[test.record.history.group("load")] if test is not None else None
@@ -157,7 +158,7 @@ def outcome_row(outcome, variant=None, sample=None, inputs=None):
                    else "quasi-static"),
         tets=int(state.zones.tets.shape[0]), linear_cells=int(state.assembly.cells.nodes.shape[0]),
         subcontacts=int(state.joints.state.shape[0]), max_rotation_rad=max_rotation(state),
-        wall_time_s=outcome.wall_time, solver_version=version())
+        wall_time_s=outcome.wall_time, lanes=lanes, solver_version=version())
 
 
 def _load_line(outcome):

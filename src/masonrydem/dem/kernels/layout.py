@@ -8,6 +8,18 @@ arrays: a row per node, tetrahedron or sub-contact.  A container that a
 model does not need holds empty arrays (``empty_*``), so that every kernel
 has one signature.
 
+**Lanes.**  The kernels advance S simulations of one mesh in lock-step,
+one per lane (a batch: dem/batch.py; a single run is a batch of one).
+What the lanes share, the mesh and its topology, has no lane axis; what
+each lane has of its own (displacements, masses, materials, stresses,
+law states) carries the lane axis last, innermost, so that a gather by
+node index reads one contiguous vector of S values and the arithmetic
+runs across the lanes in the vector registers.  The sub-contacts' own
+arrays are (sub-contacts x S, columns) in Fortran order: row s S + b is
+sub-contact s of lane b, and a column is contiguous over all of them.
+Every lane's values are computed by the same operations in the same
+order as a run alone: a lane gives the same bits in any batch.
+
 Conventions: SI units, tension positive; zone stresses as
 (xx, yy, zz, xy, yz, zx).
 """
@@ -72,14 +84,14 @@ class Nodes(NamedTuple):
     point, the centroid); the strips (rigid bearing plates) follow as one
     node each."""
     x0: np.ndarray      # (n, 3) initial position
-    u: np.ndarray       # (n, 3) displacement
-    v: np.ndarray       # (n, 3) velocity
-    f: np.ndarray       # (n, 3) force of the last step (on prescribed components: the reaction)
-    mass: np.ndarray    # (n, 3) inertial mass per component (scaled in quasi-static mode)
-    mgrav: np.ndarray   # (n,) physical mass, which gravity loads
+    u: np.ndarray       # (n, 3, S) displacement
+    v: np.ndarray       # (n, 3, S) velocity
+    f: np.ndarray       # (n, 3, S) force of the last step (on prescribed components: the reaction)
+    mass: np.ndarray    # (n, 3, S) inertial mass per component (scaled in quasi-static mode)
+    mgrav: np.ndarray   # (n, S) physical mass, which gravity loads
     fixed: np.ndarray   # (n, 3) uint8: the component's velocity is prescribed
-    vpres: np.ndarray   # (n, 3) prescribed velocity (times the velocity factor)
-    fext: np.ndarray    # (n, 3) applied force, times the load factor (deformable blocks)
+    vpres: np.ndarray   # (n, 3, S) prescribed velocity (times the velocity factor)
+    fext: np.ndarray    # (n, 3, S) applied force, times the load factor (deformable blocks)
 
 
 class Zones(NamedTuple):
@@ -91,19 +103,25 @@ class Zones(NamedTuple):
     gptr: np.ndarray    # (ng + 1,) tetrahedra of group g: gptr[g]:gptr[g + 1]
     gnodes: np.ndarray  # nodes of the group's cell (crack band width) ...
     gnptr: np.ndarray   # ... gnodes[gnptr[g]:gnptr[g + 1]]
-    par: np.ndarray     # (nt, N_ZP) law parameters
-    state: np.ndarray   # (nt, N_ZS) law state
-    stress: np.ndarray  # (nt, 6)
+    par: np.ndarray     # (nt, N_ZP, S) law parameters
+    state: np.ndarray   # (nt, N_ZS, S) law state
+    stress: np.ndarray  # (nt, 6, S)
 
 
 class Cells(NamedTuple):
     """Elastic hexahedral cells computed as linear (elements.py): cell c
     adds f = -scale[c] K[kind[c]] u over its corners nodes[c] (corner
-    i + 2 j + 4 k at offset (i, j, k); degree of freedom 3 corner + d)."""
+    i + 2 j + 4 k at offset (i, j, k); degree of freedom 3 corner + d).
+    Across lanes each node gathers its cells' forces (CSR, in cell order:
+    the sums a scatter over the cells makes): node i takes corner ga[j] of
+    cell gc[j] for j in gptr[i]:gptr[i + 1]."""
     nodes: np.ndarray   # (nc, 8)
     kind: np.ndarray    # (nc,)
-    scale: np.ndarray   # (nc,) the cell's Young's modulus
+    scale: np.ndarray   # (nc, S) the cell's Young's modulus
     K: np.ndarray       # (nk, 24, 24) per cell shape, for E = 1
+    gptr: np.ndarray    # (nodes + 1,)
+    gc: np.ndarray      # cells ...
+    ga: np.ndarray      # ... and their corners
 
 
 class Contacts(NamedTuple):
@@ -119,7 +137,8 @@ class Contacts(NamedTuple):
     gptr[i]:gptr[i + 1], gw the interpolation weight, negative on side B
     (``contacts.with_gather``).  axes, par, state and force are
     Fortran-ordered, a column per quantity (``contacts.SubContacts.pack``):
-    the law's loop over them compiles to vector code."""
+    the law's loop over them compiles to vector code.  par, state and
+    force hold a row per sub-contact and lane (row s S + b)."""
     nodes: np.ndarray   # (n, 8)
     cnt: np.ndarray     # (n, 2)
     w: np.ndarray       # (n, 8)
@@ -127,9 +146,9 @@ class Contacts(NamedTuple):
     lever: np.ndarray   # (n, 2, 3) rigid blocks (else empty)
     axes: np.ndarray    # (n, 9)
     area: np.ndarray    # (n,)
-    par: np.ndarray     # (n, N_JP) law parameters
-    state: np.ndarray   # (n, N_JS) tractions and law state
-    force: np.ndarray   # (n, 3) work space: each sub-contact's force on side A
+    par: np.ndarray     # (n S, N_JP) law parameters
+    state: np.ndarray   # (n S, N_JS) tractions and law state
+    force: np.ndarray   # (n S, 3) work space: each sub-contact's force on side A
     gptr: np.ndarray    # (nodes + 1,) deformable blocks: the per-node gather (else (1,))
     gs: np.ndarray      # sub-contacts ...
     gw: np.ndarray      # ... and their signed weights
@@ -137,17 +156,17 @@ class Contacts(NamedTuple):
 
 class Bodies(NamedTuple):
     """Rotations of rigid bodies (rows as Nodes) and their point loads."""
-    R: np.ndarray           # (n, 3, 3) orientation, body to global
-    om: np.ndarray          # (n, 3) angular velocity (global axes)
-    mom: np.ndarray         # (n, 3) moment of the last step
-    iinv: np.ndarray        # (n, 3, 3) inverse inertia (body frame)
+    R: np.ndarray           # (n, 3, 3, S) orientation, body to global
+    om: np.ndarray          # (n, 3, S) angular velocity (global axes)
+    mom: np.ndarray         # (n, 3, S) moment of the last step
+    iinv: np.ndarray        # (n, 3, 3, S) inverse inertia (body frame)
     rfixed: np.ndarray      # (n, 3) uint8: rotation component prescribed
-    ompres: np.ndarray      # (n, 3) prescribed angular velocity
+    ompres: np.ndarray      # (n, 3, S) prescribed angular velocity
     rlen: np.ndarray        # (n,) lever scale (half the diagonal) for the force ratio
-    fl: np.ndarray          # (n, 3) point loads summed per body, this step
+    fl: np.ndarray          # (n, 3, S) point loads summed per body, this step
     load_body: np.ndarray   # (k,) point load k acts on this body ...
     load_lever: np.ndarray  # (k, 3) ... at this body-frame lever ...
-    load_force: np.ndarray  # (k, 3) ... with this force (times the load factor)
+    load_force: np.ndarray  # (k, 3, S) ... with this force (times the load factor)
 
 
 class Monitors(NamedTuple):
@@ -159,24 +178,30 @@ class Monitors(NamedTuple):
 
 
 class Scratch(NamedTuple):
-    """Work space of the zone and cell kernels."""
+    """Work space of the kernels (the zone kernel runs lane by lane and
+    shares its part)."""
     de: np.ndarray       # (group size, 6) strain increments of a group
     ev: np.ndarray       # (group size,) their volumetric parts
     pending: np.ndarray  # (nt, 2) zones that may yield: (tetrahedron, group)
     a: np.ndarray        # (3, 3) eigenvalues (diagonal)
     evec: np.ndarray     # (3, 3) eigenvectors (columns)
-    U: np.ndarray        # (nc, 24) the cells' corner displacements ...
-    F: np.ndarray        # (nk, nc, 24) ... times each kind's matrix
+    U: np.ndarray        # (24, nc S) the cells' corner displacements, a column per cell and lane ...
+    F: np.ndarray        # (nk, 24, nc S) ... times each kind's matrix
+    sums: np.ndarray     # (4, S) per lane: sum |F| free, sum |applied|, kinetic energy, work rate
+    vf: np.ndarray       # (S,) per lane: the velocity factor of the step
 
 
 class Controls(NamedTuple):
-    """Scalars of one chunk of steps."""
-    step0: int          # steps done before the chunk (history step numbers)
-    dt: float
-    alpha: float        # local damping
-    lf: float           # load factor (applied forces)
-    vf0: float          # velocity factor before the chunk ...
-    dvf: float          # ... and its increment per step (a ramp, capped at 1)
+    """Of one call of the step kernel: per lane, where it stands in its
+    chunk of steps (a lane's chunk may take several calls; its values do
+    not depend on where the calls split it)."""
+    step0: np.ndarray   # (S,) int64: the lane's steps before its chunk (history step numbers)
+    k0: np.ndarray      # (S,) int64: the steps of its chunk done before this call
+    dt: np.ndarray      # (S,)
+    lf: np.ndarray      # (S,) load factor (applied forces)
+    vf0: np.ndarray     # (S,) velocity factor before the chunk ...
+    dvf: np.ndarray     # (S,) ... and its increment per step (a ramp, capped at 1)
+    alpha: np.ndarray   # (S,) local damping
     gravity: np.ndarray  # (3,)
 
 
@@ -186,12 +211,25 @@ def empty_zones():
                  z((0, N_ZP)), z((0, N_ZS)), z((0, 6)))
 
 
-def empty_cells():
+def empty_cells(n_nodes=0):
     z = np.zeros
-    return Cells(z((0, 8), np.int64), z(0, np.int64), z(0), z((0, 24, 24)))
+    return Cells(z((0, 8), np.int64), z(0, np.int64), z(0), z((0, 24, 24)), z(n_nodes + 1, np.int64), z(0, np.int64),
+                 z(0, np.int64))
 
 
 def empty_bodies():
     z = np.zeros
     return Bodies(z((0, 3, 3)), z((0, 3)), z((0, 3)), z((0, 3, 3)), z((0, 3), np.uint8), z((0, 3)), z(0),
                   z((0, 3)), z(0, np.int64), z((0, 3)), z((0, 3)))
+
+
+# What each container has per lane: field -> the axis of the lane-free
+# array (the assembly's, one run's) that stays where it is; the lane axis
+# is appended after the array's axes (the sub-contacts': see Contacts).
+PER_LANE = {
+    "Nodes": ("u", "v", "f", "mass", "mgrav", "vpres", "fext"),
+    "Zones": ("par", "state", "stress"),
+    "Cells": ("scale",),
+    "Contacts": ("par", "state", "force"),
+    "Bodies": ("R", "om", "mom", "iinv", "ompres", "fl", "load_force"),
+}

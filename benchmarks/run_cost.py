@@ -1,0 +1,107 @@
+"""Where a study run's time goes: built, set up, stepped, judged, written.
+
+    .venv/bin/python benchmarks/run_cost.py [--runs 32] [--lanes 16]
+
+The first ``--runs`` committed non-spatial samples of the study at 0.15 MPa,
+run as a study job runs them, in one process with warm kernels: one after
+another, each a batch of one, and then all in one batch of ``--lanes``
+lanes.  Prints one JSON line: per way, the seconds a run spends in each
+part (build: the scene's model assembled; load: a lane set up, the masses
+and, once per batch, the step kernel found in numba's cache; steps: the
+step kernel; stages: the rest, the stop rules, peaks and histories between
+chunks;
+row: the classification and the row; curve; write: the run's files) and
+the total per run, beside the mean steps.  One thread (the cells' BLAS
+products too)."""
+import argparse
+import json
+import os
+import sys
+import tempfile
+import time
+from collections import defaultdict
+from pathlib import Path
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import pandas as pd  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "src"))
+
+from masonrydem.dem import batch as B  # noqa: E402
+from masonrydem.specimen import protocol, row as R  # noqa: E402
+from masonrydem.specimen.scene import build_scene  # noqa: E402
+from masonrydem.study.file import load_study  # noqa: E402
+from masonrydem.study.settings import record  # noqa: E402
+
+SPENT = defaultdict(float)
+
+
+def timed(owner, name, part):
+    """owner.name, its time added to SPENT[part]."""
+    f = getattr(owner, name)
+
+    def g(*args, **kw):
+        t0 = time.perf_counter()
+        try:
+            return f(*args, **kw)
+        finally:
+            SPENT[part] += time.perf_counter() - t0
+    setattr(owner, name, g)
+
+
+def scenes(n, level=0.15e6):
+    study = load_study(ROOT / "config/studies/willis.yaml")
+    table = pd.read_parquet(ROOT / "results/study/samples_nonspatial.parquet")
+    out = []
+    for i in range(n):
+        sample = record({k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in table.iloc[i].to_dict().items()},
+                        "wallette", study.variables, study.rules)
+        out.append((build_scene(ROOT / study.scene, [f"loading.precompression.pressure={level}"], sample["settings"],
+                                f"nonspatial:s{i}"), sample))
+    return out
+
+
+def run(runs, lanes, out):
+    steps = []
+
+    def finish(i, outcome, error):
+        assert error is None, error
+        row = R.outcome_row(outcome, variant="nonspatial", sample=i, inputs=runs[i][1]["inputs"])
+        R.write(Path(out) / f"s{i}", row, R.curve(outcome), "json")
+        steps.append(row.steps)
+    SPENT.clear()
+    t0 = time.perf_counter()
+    if lanes:
+        protocol.simulate_many([sc for sc, _ in runs], finish, lanes)
+    else:
+        for i, (sc, _) in enumerate(runs):
+            protocol.simulate_many([sc], lambda _, outcome, error, i=i: finish(i, outcome, error), 1)
+    total = time.perf_counter() - t0
+    parts = {k: round(v / len(runs), 4) for k, v in SPENT.items()}
+    parts["stages"] = round((total - sum(SPENT.values())) / len(runs), 4)      # the rest: the programs' Python
+    return dict(parts, total=round(total / len(runs), 4), mean_steps=round(sum(steps) / len(steps)))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--runs", type=int, default=32)
+    ap.add_argument("--lanes", type=int, default=16)
+    args = ap.parse_args()
+    timed(protocol, "build", "build")
+    timed(B.Batch, "load", "load")
+    timed(B.Batch, "__init__", "load")
+    timed(B.Batch, "advance", "steps")
+    timed(R, "outcome_row", "row")
+    timed(R, "curve", "curve")
+    timed(R, "write", "write")
+    runs = scenes(args.runs)
+    with tempfile.TemporaryDirectory() as tmp:
+        run(runs[:2], 2, tmp)                       # kernels loaded, caches warm
+        out = {"alone": run(runs, 0, tmp), f"batch of {args.lanes}": run(runs, args.lanes, tmp)}
+    print(json.dumps(out))
+
+
+if __name__ == "__main__":
+    main()
