@@ -211,15 +211,15 @@ def test_joint_forces_gathered_per_node_add_what_a_scatter_adds():
     in sub-contact order: the sums are those of a loop that scatters each
     sub-contact's force to its nodes (+w on side A, -w on side B), bit for
     bit, on a wallette whose faces do not match node for node; in each of
-    three lanes (force row s S + b: sub-contact s of lane b), as a run
-    alone."""
+    eight lanes of a batch (force row s S + b: sub-contact s of lane b), as
+    a run alone."""
     from numba import njit
 
-    from masonrydem.dem.kernels.joints import gather_forces
+    from masonrydem.dem.kernels.lanes import gather_forces
     sc = build(build_scene(WILLIS, settings={"physics.blocks": "elasto-plastic", "numerics.cells": [5, 2, 3],
                                              "numerics.subcontact_refine": 1})).assembly.joints
     rng = np.random.default_rng(1)
-    lanes, n = 3, sc.area.size
+    lanes, n = 8, sc.area.size
     force = np.asfortranarray(rng.standard_normal((n * lanes, 3)))
     f0 = rng.standard_normal((sc.gptr.size - 1, 3, lanes))
     want = f0.copy()
@@ -230,5 +230,7 @@ def test_joint_forces_gathered_per_node_add_what_a_scatter_adds():
             for k in range(4, 4 + sc.cnt[s, 1]):
                 want[sc.nodes[s, k], :, b] -= sc.w[s, k] * force[s * lanes + b]
     got = f0.copy()
-    njit(lambda f, a, b, c, d: gather_forces(f, a, b, c, d, 3))(got, sc.gptr, sc.gs, sc.gw, force)
+    w = force.T
+    njit(lambda f, a, b, c, x, y, z: gather_forces(f.ravel(), a, b, c, x, y, z, 8))(got, sc.gptr, sc.gs, sc.gw,
+                                                                                      w[0], w[1], w[2])
     assert np.array_equal(got, want)
