@@ -12,7 +12,7 @@ import pandas as pd  # noqa: E402
 from masonrydem.analysis import design  # noqa: E402
 from masonrydem.analysis.statistics import of_study  # noqa: E402
 from masonrydem.pipeline import plan  # noqa: E402
-from masonrydem.report import captions  # noqa: E402
+from masonrydem.report import captions, tables  # noqa: E402
 
 cfg, study = sm.params.design, plan.study(sm.config)
 level, _ = of_study(sm.params.analysis)
@@ -26,7 +26,7 @@ print(table.to_string())
 lines = design.caption_lines(table, level.column, level.unit)
 print("\n".join(lines))
 title = "The wallette's characteristic flexural strength from the lab's results, per level"
-open(sm.output.page, "w").write(captions.html_table(table, title))
+open(sm.output.page, "w").write(tables.html_table(table, title))
 captions.write_caption(sm.input.template, sm.output.caption, lines="\n".join(f"- {x}" for x in lines),
                        variant=study.regression_variant, fxk2=cfg["fxk2"], gamma_M=f"{cfg['gamma_M']:g}",
                        resamples=cfg["resamples"], lab=", ".join(f"{n} ({len(v)} results)" for n, (_, v) in lab.items()))
