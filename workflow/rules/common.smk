@@ -301,16 +301,13 @@ def get_further_figures(study):
                     for p in sorted((folder / "pictures").glob("*.png"))]
 
 
-def get_modelform_band():
-    """The model-form study's band of P_max changes, for the landing page:
-    read from its committed summary (a parameter, not an input: the study
-    is run by its own target, which `all` never reruns), or None."""
-    path = Path(f"{R}/modelform/summary.csv")
-    if not config.get("modelform") or not path.is_file():
-        return None
-    import pandas as pd
-    from masonrydem.report.landing import modelform_band
-    return modelform_band(pd.read_csv(path))
+def get_modelform_summary():
+    """The model-form study's summary, whose band of P_max changes the
+    landing page shows if it is there when the page is made (a path, not
+    an input: the study is run by its own target, which `all` never
+    reruns; nor a value read here, which would rerun the page whenever the
+    study ran after it), or None."""
+    return f"{R}/modelform/summary.csv" if config.get("modelform") else None
 
 
 def get_further_outputs():

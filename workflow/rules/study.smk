@@ -136,7 +136,7 @@ rule landing:
         code=get_code("landing"),
         analysis=plan.analysis(config),
         report=plan.report_spec(config),
-        band=get_modelform_band(),
+        band=get_modelform_summary(),
     log:
         f"{R}/logs/study/landing.log",
     conda:
