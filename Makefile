@@ -43,8 +43,12 @@ endif
 report: $(STAMP)
 	$(BIN)/snakemake --report results/report.zip all accuracy modelform
 
+# the suite in TEST_WORKERS processes (pytest-xdist), a test file's tests in
+# one of them: from a fresh clone most of its time is numba compiling the
+# kernels' specialisations, a process at a time each
+TEST_WORKERS ?= 2
 test: $(STAMP)
-	$(BIN)/python -m pytest -q -rs
+	$(BIN)/python -m pytest -q -rs -n $(TEST_WORKERS) --dist loadfile
 
 # the committed report (results/report.zip) in headless Chromium: the landing
 # page readable at 1280x800 and 1920x1080, its links working, the key tables

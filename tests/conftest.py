@@ -4,7 +4,13 @@ swept level are the file's, never constants of the code."""
 import pytest
 
 from masonrydem.analysis.statistics import Level
+from masonrydem.pipeline.kernel_cache import lock as lock_kernel_cache
 from masonrydem.study.file import load_study
+
+# the test processes of `make test` (pytest-xdist) and the workflow's jobs
+# they start share the kernel cache: its entries saved and loaded under a
+# lock, as `masonrydem run` does
+lock_kernel_cache()
 
 WILLIS_STUDY = "config/studies/willis.yaml"
 
@@ -42,3 +48,10 @@ def spec(willis):
 def inputs(willis):
     """The random inputs' columns, in the study file's order."""
     return [willis.column(v.name) for v in willis.variables]
+
+
+def pytest_collection_modifyitems(config, items):
+    """The workflow's tests first (a stable sort): they are the suite's
+    longest file, and in `make test`'s processes a file started last would
+    end alone."""
+    items.sort(key=lambda item: item.path.name != "test_workflow.py")

@@ -143,9 +143,12 @@ def test_statistics_captions(level, inputs):
     runs = _runs()
     st, corr, inc = analysis.study_tables(runs, 200, 0, inputs, level)
     values = captions.statistics(runs, st, corr, inc, level, inputs, SPEC)
-    page = landing.landing(runs, st, int((~runs.ok).sum()), level, SPEC)
+    source = landing.source(None, "config/studies/demo.yaml")
+    page = landing.landing(runs, st, int((~runs.ok).sum()), level, SPEC, source)
     landing_text = (REPORT / "workflow.rst").read_text().format(**page)
     assert "No source paper is compared" in landing_text
+    # a study without a paper cites its study file, and no one else's source
+    assert "``config/studies/demo.yaml``; no source paper" in landing_text and "Willis" not in landing_text
     assert landing_text.startswith("masonrydem: the study demo\n==========================\n")
     assert "- Study_: the statistics.\n- Prediction_: the equations.\n- `3-D pictures`_: states." in landing_text
     assert "Accuracy_" not in landing_text and "spatial" not in landing_text.replace("nonspatial", "")

@@ -120,6 +120,8 @@ def scenes_of(args):
 def _run(args):
     """``run``: one scene, or a batch of a study's samples."""
     check_threads(args.threads)
+    from .pipeline.kernel_cache import lock
+    lock()
     if args.lanes < 1:
         raise InputError("--lanes", f"must be at least 1, got {args.lanes}")
     runs = scenes_of(args)

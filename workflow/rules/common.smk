@@ -4,12 +4,30 @@ import sys
 import os
 from pathlib import Path
 
-from snakemake.utils import validate
+import yaml
+from snakemake.utils import update_config, validate
 
 import masonrydem
 from masonrydem.pipeline import plan
 from masonrydem.pipeline.check import check_config
 from masonrydem.pipeline.plan import reference_checks, reference_runs
+
+# A nested --config value as YAML types it: Snakemake reads one with YAML's
+# base loader, every scalar in it a string (batch="{runs: 10}" gives runs
+# "10"); a scalar of the command line's mappings and lists is read again.
+def _typed(value):
+    if isinstance(value, dict):
+        return {k: _typed(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_typed(v) for v in value]
+    scalar = yaml.safe_load(value) if isinstance(value, str) and value else value
+    return scalar if isinstance(scalar, (int, float, bool, type(None))) else value
+
+
+for key, value in workflow.config_settings.config.items():
+    if isinstance(value, (dict, list)):
+        update_config(config, {key: _typed(value)})
+
 
 # a stage set to null (by a study's own workflow config, over config.yaml's)
 # is no stage of this workflow
@@ -278,13 +296,13 @@ def item(path, caption, category, label, subcategory=None):
 FURTHER = config.get("further_studies", {})
 
 
-# a further study's figures: file -> (its caption's name, label)
+# a further study's figures: file -> (its caption's name, label); its
+# curves by mode (a MB each) are in its own report only
 FURTHER_FIGURES = {
     "running_mean": ("running_mean", "Running mean of P_max"),
     "brick_share": ("brick_share", "Share of brick failures"),
     "correlation_vs_sigma": ("correlation_vs_sigma", "Correlations against precompression"),
     "scatter_deviation": ("scatter_deviation", "P_max against each random input"),
-    "curves_by_mode": ("curves_by_mode", "Load-displacement curves by mode"),
     "predicted_vs_simulated": ("equations", "Predicted against simulated strength"),
     "design_comparison": ("design_comparison", "Design rules against the simulations"),
     "sensitivity": ("sensitivity", "Sobol indices"),
@@ -297,17 +315,8 @@ def get_further_figures(study):
     folder = Path(study["results"], "study")
     found = [(f"{folder}/{f}.png", c, label) for f, (c, label) in FURTHER_FIGURES.items()
              if (folder / f"{f}.png").is_file()]
-    return found + [(p.as_posix(), "study_pictures", "3-D picture: " + p.stem.replace("_", " variant, ") + " failure")
+    return found + [(p.as_posix(), "study_pictures", f"3-D picture: {p.stem.replace('_', ' variant, ')} failure")
                     for p in sorted((folder / "pictures").glob("*.png"))]
-
-
-def get_modelform_summary():
-    """The model-form study's summary, whose band of P_max changes the
-    landing page shows if it is there when the page is made (a path, not
-    an input: the study is run by its own target, which `all` never
-    reruns; nor a value read here, which would rerun the page whenever the
-    study ran after it), or None."""
-    return f"{R}/modelform/summary.csv" if config.get("modelform") else None
 
 
 def get_further_outputs():

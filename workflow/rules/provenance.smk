@@ -157,7 +157,7 @@ def check_record_times():
         if record.get("starttime") is None and record.get("endtime") is None:
             unknown.append(path)
         elif error := record_times_error(record):
-            wrong.append(f"{path} (rule {record.get('rule')}): {error}")
+            wrong.append(f"{path} (made by {record.get('rule')}): {error}")
     for path in unknown:
         delete_record(path)
     if unknown:

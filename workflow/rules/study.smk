@@ -129,6 +129,7 @@ rule landing:
         runs=f"{R}/study/runs.parquet",
         statistics=f"{R}/study/statistics.csv",
         card=[f"{R}/study/paper_comparison.csv"] if "paper_comparison" in PAGES else [],
+        paper=[config["study"]["paper"]] if config["study"].get("paper") else [],
         template=get_template("workflow"),
     output:
         f"{R}/report/workflow.rst",
@@ -136,7 +137,7 @@ rule landing:
         code=get_code("landing"),
         analysis=plan.analysis(config),
         report=plan.report_spec(config),
-        band=get_modelform_summary(),
+        study_file=config["study"]["file"],
     log:
         f"{R}/logs/study/landing.log",
     conda:

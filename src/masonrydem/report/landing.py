@@ -4,6 +4,7 @@ how, what it found in numbers, and how it compares with the source paper
 model-form band or not).  Every number comes from the study's tables."""
 import numpy as np
 import pandas as pd
+import yaml
 
 from .captions import _num
 
@@ -80,11 +81,12 @@ def _rst_table(head, rows):
     return "\n".join([rule, line(head), rule, *map(line, rows), rule])
 
 
-def landing(runs, stats, excluded, level, report, card=None, band=None):
+def landing(runs, stats, excluded, level, report, source, card=None, band=None):
     """The fields of the landing page: what was run, how, the study's key
     table (mean P_max, COV, brick share per variant and level), the
     comparison with the paper (``card``: the scorecard; ``band``:
-    modelform_band, or None); ``report``: pipeline.plan.report_spec."""
+    modelform_band, or None); ``report``: pipeline.plan.report_spec;
+    ``source``: the study's source (source)."""
     rows = [(r.variant, f"{getattr(r, level.column):g}", f"{r.P_max_mean_kN:.2f}", f"{r.strength_mean_mpa:.3f}",
              _num(r.P_max_cov, ".3f"), f"{100 * r.brick_share:.0f}", str(r.count))
             for r in stats[stats["mode"] == "all"].itertuples()]
@@ -100,7 +102,7 @@ def landing(runs, stats, excluded, level, report, card=None, band=None):
     links = "\n".join(f"- {name if name.isalnum() else f'`{name}`'}_: {what}." for name, what in report["categories"])
     accuracy = any(name == "Accuracy" for name, _ in report["categories"])
     return dict(study=report["study"], rule="=" * len(f"masonrydem: the study {report['study']}"),
-                scene=report["scene"], wallette=report["wallette"], test=report["test"],
+                scene=report["scene"], wallette=report["wallette"], test=report["test"], source=source,
                 under=" under vertical precompression" if report["precompression"] else "",
                 inputs=f"its {len(report['inputs'])} random input{'s' if len(report['inputs']) > 1 else ''} "
                        f"({', '.join(report['inputs'])})",
@@ -111,8 +113,23 @@ def landing(runs, stats, excluded, level, report, card=None, band=None):
                 levels=f"{', '.join(f'{x:g}' for x in levels)} {level.unit}".rstrip(),
                 blocks=one("blocks"), cells=one("cells"), refine=one("subcontact_refine"),
                 solver=one("solver_version"), excluded=excluded,
-                cpu_h=float(np.sum(runs.get("wall_time_s", np.nan) / runs.get("lanes", 1))) / 3600,
+                cpu=_core_time(float(np.sum(runs.get("wall_time_s", np.nan) / runs.get("lanes", 1)))),
                 table=_rst_table(head, rows), paper=paper_findings(card, band))
+
+
+def _core_time(seconds):
+    """A summed run time in core-hours, or core-minutes below one hour."""
+    return f"{seconds / 3600:.1f} core-hours" if seconds >= 3600 else f"{seconds / 60:.1f} core-minutes"
+
+
+def source(paper, study_file):
+    """The landing page's source: the study's source paper as its
+    published figures' file ``paper`` (config study.paper) cites it, or,
+    with none, the study file."""
+    if paper:
+        with open(paper) as f:
+            return f"{yaml.safe_load(f)['source']}; its published figures: ``{paper}``."
+    return f"the study file ``{study_file}``; no source paper is compared."
 
 
 def read_card(path):
