@@ -173,9 +173,14 @@ def check_record_times():
 
 def save_provenance():
     """Save the records of every output under R but the single runs' to
-    R/provenance.json (paths relative to R)."""
+    R/provenance.json (paths relative to R); a folder below R with a
+    provenance.json of its own is another workflow's results (a further
+    study's), whose records are its own."""
     records = {}
+    others = [p.parent for p in Path(R).rglob("provenance.json") if p.parent != Path(R)]
     for path in sorted(p for p in Path(R).rglob("*") if p.is_file()):
+        if any(path.is_relative_to(other) for other in others):
+            continue
         record = read_record(path)
         if record is None:
             continue

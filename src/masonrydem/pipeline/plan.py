@@ -279,7 +279,7 @@ def study_pictures(config):
     return [(v, m) for v in study_variants(config) for m in ("joint", "brick")]
 
 
-# --- the accuracy study (issues 5, 22) -----------------------------------------
+# --- the accuracy study --------------------------------------------------------
 def path_setting(cells):
     """Setting id of a level of the refinement path."""
     return "path_c{}x{}x{}".format(*cells)
