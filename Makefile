@@ -31,9 +31,10 @@ reproduce: $(STAMP)
 	$(BIN)/snakemake --cores 2 all modelform $(if $(filter 1,$(ACCURACY)),accuracy) --config results=$(REPRO)
 ifneq ($(ACCURACY),1)
 	@echo "The accuracy study is not rerun (ACCURACY=1 reruns it): its committed summaries go into the report."
-	mkdir -p $(REPRO)/accuracy $(REPRO)/report
+	mkdir -p $(REPRO)/accuracy $(REPRO)/report/tables
 	cp results/accuracy/*.csv results/accuracy/*.png $(REPRO)/accuracy/
 	cp results/report/accuracy_*.rst $(REPRO)/report/
+	cp results/report/tables/accuracy_*.html $(REPRO)/report/tables/
 endif
 	$(BIN)/snakemake --report $(REPRO)/report.zip all accuracy modelform --config results=$(REPRO)
 	$(BIN)/python tools/compare_results.py results $(REPRO) $(if $(filter 1,$(ACCURACY)),,--copied accuracy/runs.csv)
