@@ -156,8 +156,7 @@ def _one(nodes, cells):
                   nodes.fext.reshape(n, 3))
     if cells is None:
         return one, None
-    return one, K.Cells(cells.nodes, cells.kind, cells.scale.reshape(cells.scale.shape[0]), cells.K, cells.gptr,
-                        cells.gc, cells.ga)
+    return one, K.Cells(cells.nodes, cells.kind, cells.scale.reshape(cells.scale.shape[0]), cells.K)
 
 
 def best_of(fn, n, repeat=5):

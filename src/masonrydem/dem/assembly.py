@@ -159,7 +159,7 @@ def _deformable(model, x0, maps, jlaw, joints, bearings, joint_points, bearing_p
     nn = x0.shape[0]
     zb = [b for b in model.blocks if b.element == "zones"]
     zones = _zones(zb, x0) if zb else K.empty_zones()
-    cells = _cells([b for b in model.blocks if b.element != "zones"], nn)
+    cells = _cells([b for b in model.blocks if b.element != "zones"])
     # one zone law for the model: elastic rows never yield under Mohr-Coulomb
     zlaw = max(b.material.law_id for b in zb) if zb else K.ZONE_NONE
     fext = np.zeros((nn, 3))
@@ -218,10 +218,9 @@ def _zones(blocks, x0):
                    stress=np.zeros((nt, 6)))
 
 
-def _cells(blocks, n_nodes):
+def _cells(blocks):
     """The linear cells of ``blocks``: one stiffness matrix per (element,
-    cell size, Poisson's ratio), scaled by each block's E; each of the
-    ``n_nodes`` nodes' cells and corners in cell order (kernels.Cells)."""
+    cell size, Poisson's ratio), scaled by each block's E (kernels.Cells)."""
     kinds, mats, nodes, kind, scale = {}, [], [], [], []
     for b in blocks:
         size = tuple(np.round((b.hi - b.lo) / b.cells, 12))
@@ -233,13 +232,9 @@ def _cells(blocks, n_nodes):
         kind.append(np.full(b.mesh.cells.shape[0], kinds[key]))
         scale.append(np.full(b.mesh.cells.shape[0], b.material.E))
     if not blocks:
-        return K.empty_cells(n_nodes)
-    nodes = np.concatenate(nodes)
-    node, cell, corner = nodes.ravel(), np.repeat(np.arange(nodes.shape[0]), 8), np.tile(np.arange(8), nodes.shape[0])
-    order = np.lexsort((cell, node))
-    return K.Cells(nodes=nodes, kind=np.concatenate(kind), scale=np.concatenate(scale), K=np.array(mats),
-                   gptr=np.concatenate([[0], np.cumsum(np.bincount(node, minlength=n_nodes))]).astype(np.int64),
-                   gc=cell[order].astype(np.int64), ga=corner[order].astype(np.int64))
+        return K.empty_cells()
+    return K.Cells(nodes=np.concatenate(nodes), kind=np.concatenate(kind), scale=np.concatenate(scale),
+                   K=np.array(mats))
 
 
 def cell_masses(blocks, cells):

@@ -111,17 +111,11 @@ class Zones(NamedTuple):
 class Cells(NamedTuple):
     """Elastic hexahedral cells computed as linear (elements.py): cell c
     adds f = -scale[c] K[kind[c]] u over its corners nodes[c] (corner
-    i + 2 j + 4 k at offset (i, j, k); degree of freedom 3 corner + d).
-    Across lanes each node gathers its cells' forces (CSR, in cell order:
-    the sums a scatter over the cells makes): node i takes corner ga[j] of
-    cell gc[j] for j in gptr[i]:gptr[i + 1]."""
+    i + 2 j + 4 k at offset (i, j, k); degree of freedom 3 corner + d)."""
     nodes: np.ndarray   # (nc, 8)
     kind: np.ndarray    # (nc,)
     scale: np.ndarray   # (nc, S) the cell's Young's modulus
     K: np.ndarray       # (nk, 24, 24) per cell shape, for E = 1
-    gptr: np.ndarray    # (nodes + 1,)
-    gc: np.ndarray      # cells ...
-    ga: np.ndarray      # ... and their corners
 
 
 class Contacts(NamedTuple):
@@ -185,8 +179,8 @@ class Scratch(NamedTuple):
     pending: np.ndarray  # (nt, 2) zones that may yield: (tetrahedron, group)
     a: np.ndarray        # (3, 3) eigenvalues (diagonal)
     evec: np.ndarray     # (3, 3) eigenvectors (columns)
-    U: np.ndarray        # (24, nc S) the cells' corner displacements, a column per cell and lane ...
-    F: np.ndarray        # (nk, 24, nc S) ... times each kind's matrix
+    U: np.ndarray        # (24, B S) a block of B cells' corner displacements, a column per cell and lane ...
+    F: np.ndarray        # (nk, 24, B S) ... times each kind's matrix
     sums: np.ndarray     # (4, S) per lane: sum |F| free, sum |applied|, kinetic energy, work rate
     vf: np.ndarray       # (S,) per lane: the velocity factor of the step
 
@@ -211,10 +205,9 @@ def empty_zones():
                  z((0, N_ZP)), z((0, N_ZS)), z((0, 6)))
 
 
-def empty_cells(n_nodes=0):
+def empty_cells():
     z = np.zeros
-    return Cells(z((0, 8), np.int64), z(0, np.int64), z(0), z((0, 24, 24)), z(n_nodes + 1, np.int64), z(0, np.int64),
-                 z(0, np.int64))
+    return Cells(z((0, 8), np.int64), z(0, np.int64), z(0), z((0, 24, 24)))
 
 
 def empty_bodies():

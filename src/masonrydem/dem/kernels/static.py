@@ -12,10 +12,15 @@ from numba.core import types
 from numba.core.errors import TypingError
 
 
-def choose(table, key, what):
-    """table[literal value of the numba type ``key``]; refused (at compile
+def literal(key, what):
+    """The literal value of the numba type ``key``; refused (at compile
     time) unless ``key`` is a literal (an argument specialised with
     numba.literally, or a constant)."""
     if not isinstance(key, types.Literal):
         raise TypingError(f"{what} must be a compile-time literal, got {key}")
-    return table[key.literal_value]
+    return key.literal_value
+
+
+def choose(table, key, what):
+    """table[literal value of the numba type ``key``] (``literal``)."""
+    return table[literal(key, what)]

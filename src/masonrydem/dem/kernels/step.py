@@ -25,7 +25,7 @@ from .advance import _advance_bodies, _advance_nodes, _point_loads
 from .cells import cell_forces
 from .joints import contact_forces
 from .layout import H_KE, H_MON, H_RATIO, H_STEP, JOINT_BEARING, ST_NONFINITE, ST_OK, Bodies, Cells, Contacts, Nodes, Zones
-from .static import choose
+from .static import choose, literal
 from .zones import zone_forces
 
 _CACHE = dict(cache=True, nogil=True, error_model="numpy")
@@ -123,8 +123,7 @@ def _one(nodes, zones, cells, joints, bearings, bodies):
             Zones(zones.tets, zones.dn, zones.vol, zones.wt, zones.gptr, zones.gnodes, zones.gnptr,
                   zones.par.reshape(nt, zones.par.shape[1]), zones.state.reshape(nt, zones.state.shape[1]),
                   zones.stress.reshape(nt, 6)),
-            Cells(cells.nodes, cells.kind, cells.scale.reshape(cells.scale.shape[0]), cells.K, cells.gptr, cells.gc,
-                  cells.ga),
+            Cells(cells.nodes, cells.kind, cells.scale.reshape(cells.scale.shape[0]), cells.K),
             joints, bearings,
             Bodies(bodies.R.reshape(nb, 3, 3), bodies.om.reshape(nb, 3), bodies.mom.reshape(nb, 3),
                    bodies.iinv.reshape(nb, 3, 3), bodies.rfixed, bodies.ompres.reshape(nb, 3), bodies.rlen,
@@ -237,6 +236,25 @@ def _lanes(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, 
     return ST_OK, nsteps
 
 
+def lanes_steps(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
+                hist, work, scratch):
+    """The steps of a batch of one or of 8, 16, ... lanes (``nl`` a
+    literal: static.py; a branch on it would type both)."""
+    raise TypeError("lanes_steps: only callable from compiled code")
+
+
+@overload(lanes_steps, prefer_literal=True)
+def _lanes_steps(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
+                 hist, work, scratch):
+    if literal(nl, "the lanes") == 1:
+        return (lambda zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies,
+                mon, hist, work, scratch: _one_lane(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells,
+                                                    joints, bearings, bodies, mon, hist, work, scratch))
+    return (lambda zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
+            hist, work, scratch: _lanes(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints,
+                                        bearings, bodies, mon, hist, work, scratch))
+
+
 @njit(**_CACHE)
 def run_chunk(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist,
               work, scratch):
@@ -255,11 +273,8 @@ def run_chunk(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cell
     after the first step at which a lane's kinetic energy or force ratio
     is not finite (the caller tells which from the history).  ``nl``: the
     lanes, a literal, 1 or a multiple of 8."""
-    if nl == 1:
-        return _one_lane(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies,
-                         mon, hist, work, scratch)
-    return _lanes(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
-                  hist, work, scratch)
+    return lanes_steps(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies,
+                       mon, hist, work, scratch)
 
 
 @njit(**_CACHE)
