@@ -243,8 +243,8 @@ def test_a_study_that_sweeps_another_setting(tmp_path):
 
 @pytest.mark.parametrize("runs", [50, 1])
 def test_full_study_plans_1000_simulations_in_batches(tmp_path, runs):
-    """The study's 1000 runs in jobs of config batch.runs: 20 jobs of 50
-    (2 variants x 5 levels x 2), or at 1 a job each (1000 jobs), their
+    """The study's 1000 runs in jobs of config batch.runs: at 50 20 jobs
+    (2 variants x 5 levels x 2), at 1 a job each (1000 jobs), their
     outputs every run's row and curve once."""
     r = subprocess.run(SNAKEMAKE + ["-n", "--config", f"results={tmp_path}", f"batch={{runs: {runs}}}"],
                        capture_output=True, text=True)
@@ -271,7 +271,7 @@ def test_full_study_plans_on_slurm(tmp_path):
     assert planned_jobs(r.stdout)["simulate"] == 1000
     sim = r.stdout[r.stdout.index("rule simulate_0:"):]
     resources = sim[sim.index("resources:"):].splitlines()[0]
-    assert "slurm_partition=test" in resources and "runtime=50" in resources and "mem_mb=2000" in resources
+    assert "slurm_partition=test" in resources and "runtime=100" in resources and "mem_mb=2000" in resources
 
 
 def test_a_simulation_that_raises_is_recorded(tmp_path):

@@ -1,3 +1,8 @@
+# the study's two long analyses, its equations' and its indices' intervals,
+# each on half the cores: they run side by side, first (priority 2, and the
+# statistics that the indices wait for), then the pictures (1), the short
+# figures and tables in the gaps
+ANALYSIS_THREADS = max(1, workflow.cores // 2)
 FIGURE_CAPTIONS = ["running_mean", "brick_share", "correlation_vs_sigma", "scatter_deviation", "curves_by_mode"]
 REGRESSION_CAPTIONS = ["equations", "design_comparison"]
 
@@ -52,7 +57,8 @@ rule regression:
         settings=get_study_settings(),     # for predict: the inputs that change the brick
     log:
         f"{R}/logs/study/regression.log",
-    threads: 2      # the bootstrap's refits on two processes (equations.equation_intervals)
+    threads: ANALYSIS_THREADS      # the bootstrap's refits on processes (equations.equation_intervals)
+    priority: 2
     conda:
         ENV
     script:
@@ -77,6 +83,8 @@ rule sensitivity:
         seed=plan.study(config).seed,
     log:
         f"{R}/logs/study/sensitivity.log",
+    threads: ANALYSIS_THREADS      # the groups on processes (sensitivity.sensitivity_table)
+    priority: 2
     conda:
         ENV
     script:

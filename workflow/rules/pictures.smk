@@ -38,6 +38,7 @@ rule study_pictures:
     log:
         f"{R}/logs/study/pictures.log",
     threads: 1
+    priority: 1     # after the two long analyses, before the short tables and figures (analysis.smk)
     conda:
         ENV
     script:

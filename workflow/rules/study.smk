@@ -116,6 +116,7 @@ rule statistics:
         report=plan.report_spec(config),
     log:
         f"{R}/logs/study/statistics.log",
+    priority: 2     # the sensitivity waits for it (analysis.smk)
     conda:
         ENV
     script:

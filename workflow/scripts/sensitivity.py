@@ -19,7 +19,8 @@ study = plan.study(sm.config)
 # the random inputs in the study file's order (the order decides how a correlated pair splits)
 variables = [v for v in study.variables if spec["columns"].get(v.name) in runs]
 to_inputs = S.input_map(variables, study.correlations, {v.name: to_shown(1.0, study.units[v.name]) for v in variables})
-table = S.sensitivity_table(runs, level, [spec["columns"][v.name] for v in variables], to_inputs, seed=sm.params.seed)
+table = S.sensitivity_table(runs, level, [spec["columns"][v.name] for v in variables], to_inputs,
+                            seed=sm.params.seed, jobs=sm.threads)
 table = S.with_pearson(table, pd.read_csv(sm.input.correlations), level)
 table.to_csv(sm.output.table, index=False, float_format="%.4g")
 S.figure(table, sm.output.figure, level)

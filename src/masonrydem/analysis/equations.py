@@ -217,7 +217,7 @@ def equation_intervals(ns, terms, columns, resamples, seed, progress=None, jobs=
     def statistic(idx):
         blocks = [idx[k:k + block] for k in range(0, len(idx), block)]
         out, done = [], 0
-        for part in _map_blocks(_refit_block, blocks, jobs, ns, by_sample, terms, columns, names):
+        for part in map_blocks(_refit_block, blocks, jobs, ns, by_sample, terms, columns, names):
             out.extend(part)
             done += len(part)
             if progress:
@@ -242,9 +242,13 @@ def _refit_block(block, ns, by_sample, terms, columns, names):
     return out
 
 
-def _map_blocks(fn, blocks, jobs, *args):
+def map_blocks(fn, blocks, jobs, *args):
     """fn(block, *args) for each block, in order, as each finishes: in this
-    process for one job, else on ``jobs`` joblib (loky) processes."""
+    process for one job, else on ``jobs`` joblib (loky) processes.  A
+    call gives its values in another process too, at most to round-off:
+    numpy's sums can depend in their last bits on where an array lies in
+    memory (the refits here: to the bit, tests/test_intervals.py; the
+    sensitivity's surrogates: to 1e-12, tests/test_sensitivity.py)."""
     if jobs <= 1:
         return (fn(b, *args) for b in blocks)
     from joblib import Parallel, delayed

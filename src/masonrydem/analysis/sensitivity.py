@@ -121,27 +121,41 @@ def group_indices(x, y, points, to_inputs, n=N_BASE, bootstrap=BOOTSTRAP, seed=0
     return out
 
 
-def sensitivity_table(runs, level, columns, to_inputs, n=N_BASE, bootstrap=BOOTSTRAP, seed=0):
+def sensitivity_table(runs, level, columns, to_inputs, n=N_BASE, bootstrap=BOOTSTRAP, seed=0, jobs=1):
     """One row per variant, level, failure mode ('all' for all runs) and
     input: runs, surrogate, cv_r2, S1, ST and their intervals (empty where
     the group has fewer than MIN_RUNS runs or its surrogate's R^2 is below
     MIN_R2).  ``columns``: the inputs' columns in the runs table, in the
-    order of ``to_inputs``' output."""
-    points, rows = sobol_points(len(columns), n, seed), []
+    order of ``to_inputs``' output.  The groups go on ``jobs`` processes
+    (each group draws from its own seed: the same values, to round-off,
+    whichever process fits it; map_blocks)."""
+    from .equations import map_blocks
+    points, groups = sobol_points(len(columns), n, seed), []
     for (variant, lv), g in runs[runs.ok].groupby(["variant", level.column]):
         for mode in ("all", "joint", "brick"):
             h = g if mode == "all" else g[g.failure_mode == mode]
-            base = {"variant": variant, level.column: lv, "mode": mode, "runs": len(h)}
-            if len(h) < MIN_RUNS:
-                rows.append(base)
-                continue
-            res = group_indices(h[columns].to_numpy(float), h.strength_mpa.to_numpy(float), points, to_inputs,
-                                n, bootstrap, seed)
-            for k, col in enumerate(columns):
-                rows.append({**base, "input": col, "surrogate": res["surrogate"], "cv_r2": res["cv_r2"],
-                             **{s: res[s][k] for s in ("S1", "S1_lo", "S1_hi", "ST", "ST_lo", "ST_hi") if s in res}})
+            groups.append(({"variant": variant, level.column: lv, "mode": mode, "runs": len(h)},
+                           h[columns].to_numpy(float), h.strength_mpa.to_numpy(float)))
+    fitted = [(x, y) for _, x, y in groups if len(y) >= MIN_RUNS]
+    results = iter(map_blocks(_group_block, [[k] for k in range(len(fitted))], jobs, fitted, points, to_inputs, n,
+                              bootstrap, seed))
+    rows = []
+    for base, x, y in groups:
+        if len(y) < MIN_RUNS:
+            rows.append(base)
+            continue
+        res = next(results)
+        for k, col in enumerate(columns):
+            rows.append({**base, "input": col, "surrogate": res["surrogate"], "cv_r2": res["cv_r2"],
+                         **{s: res[s][k] for s in ("S1", "S1_lo", "S1_hi", "ST", "ST_lo", "ST_hi") if s in res}})
     return pd.DataFrame(rows, columns=["variant", level.column, "mode", "runs", "input", "surrogate", "cv_r2",
                                        "S1", "S1_lo", "S1_hi", "ST", "ST_lo", "ST_hi"])
+
+
+def _group_block(block, fitted, points, to_inputs, n, bootstrap, seed):
+    """group_indices of the one group in ``block`` (map_blocks' unit)."""
+    x, y = fitted[block[0]]
+    return group_indices(x, y, points, to_inputs, n, bootstrap, seed)
 
 
 def with_pearson(table, corr, level):

@@ -215,8 +215,10 @@ def face_points(axis, coord, P, Q):
     return pts
 
 
+@memoized(exact)
 def local_axes(axis, sign):
-    """(n, t1, t2) of a face normal to ``axis``, n = sign e_axis, as 9 numbers."""
+    """(n, t1, t2) of a face normal to ``axis``, n = sign e_axis, as 9
+    numbers (read-only: memo.py)."""
     n = np.zeros(3)
     n[axis] = sign
     t1 = np.zeros(3)

@@ -6,7 +6,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import kernels as K
-from .blocks import GEOM_TOL, check_3, face_points, face_quadrature, face_refine, local_axes, refine_axes
+from .blocks import (GEOM_TOL, Block, check_3, face_points, face_quadrature, face_refine, local_axes,
+                     refine_axes)
+from .memo import exact, memoized
 from ..errors import InputError
 from .laws import JointProps
 
@@ -125,10 +127,31 @@ def find_joints(blocks, law, props, refine, rule="simpson"):
     grids with their tributary areas (blocks.trapezoid)."""
     boxes = [b for b in blocks if b.is_box]
     contacts, sc = [], SubContacts()
+    for i, j, axis, rect in _touching(tuple(_geometry(b) for b in boxes)):
+        contacts.append(_joint(len(contacts), sc, boxes[i], boxes[j], axis, rect, law, props, refine, rule))
+    return contacts, sc
+
+
+def _geometry(block):
+    """What a box's faces are: its box, grid, first node and rigidity."""
+    return block.lo, block.hi, block.cells, block.node0, block.rigid
+
+
+def _box(geometry):
+    lo, hi, cells, node0, rigid = geometry
+    return Block(-1, None, None, node0, np.asarray(lo), np.asarray(hi), cells, rigid)
+
+
+@memoized(exact)
+def _touching(geometries):
+    """(i, j, axis, rect) of each pair of touching box faces, box i's face
+    at its hi side on box j's lo side, overlapping in the rectangle rect
+    (a tuple; read-only: memo.py)."""
+    boxes, out = [_box(g) for g in geometries], []
     for i, b1 in enumerate(boxes):
-        for b2 in boxes[i + 1:]:
+        for k, b2 in enumerate(boxes[i + 1:], i + 1):
             for axis in range(3):
-                for lower, upper in ((b1, b2), (b2, b1)):
+                for lo, hi, (lower, upper) in ((i, k, (b1, b2)), (k, i, (b2, b1))):
                     if abs(lower.hi[axis] - upper.lo[axis]) > GEOM_TOL:
                         continue
                     p, q = lower.face_axes(axis)
@@ -136,13 +159,31 @@ def find_joints(blocks, law, props, refine, rule="simpson"):
                             (max(lower.lo[q], upper.lo[q]), min(lower.hi[q], upper.hi[q])))
                     if min(rect[0][1] - rect[0][0], rect[1][1] - rect[1][0]) <= GEOM_TOL:
                         continue
-                    contacts.append(_joint(len(contacts), sc, lower, upper, axis, rect, law, props, refine, rule))
-    return contacts, sc
+                    out.append((lo, hi, axis, rect))
+    return tuple(out)
+
+
+@memoized(exact)
+def _upper_finer(lower, upper, axis, rect):
+    """Whether the upper face has more gridpoints in the overlap."""
+    return _box(upper).nodes_in_rect(axis, rect) > _box(lower).nodes_in_rect(axis, rect)
+
+
+@memoized(exact)
+def _joint_points(ga, gb, side_a, side_b, axis, rect, refine, rule, coord):
+    """A joint's sub-contacts on the face of the box ga (side A) against
+    the face of gb: (nodes, weights, counts of A, of B, areas, points)
+    (read-only: memo.py)."""
+    a, b = _box(ga), _box(gb)
+    P, Q, A = face_quadrature(rect, zip(a.face_grid(axis), b.face_grid(axis)), face_refine(refine, axis), rule)
+    na, wa, ca = a.interpolate_points(axis, side_a, P, Q)
+    nb, wb, cb = b.interpolate_points(axis, side_b, P, Q)
+    return na, wa, ca, nb, wb, cb, A, face_points(axis, coord, P, Q)
 
 
 def _joint(cid, sc, lower, upper, axis, rect, law, props, refine, rule):
     # sub-contacts on the finer face (more gridpoints in the overlap)
-    if upper.nodes_in_rect(axis, rect) > lower.nodes_in_rect(axis, rect):
+    if _upper_finer(_geometry(lower), _geometry(upper), axis, rect):
         a, b, side_a, side_b, sign = upper, lower, 0, 1, -1.0
     else:
         a, b, side_a, side_b, sign = lower, upper, 1, 0, 1.0
@@ -154,10 +195,9 @@ def _joint(cid, sc, lower, upper, axis, rect, law, props, refine, rule):
     row = props.row()
     axes = local_axes(axis, sign)
     start = len(sc)
-    P, Q, A = face_quadrature(rect, zip(a.face_grid(axis), b.face_grid(axis)), face_refine(refine, axis), rule)
-    na, wa, ca = a.interpolate_points(axis, side_a, P, Q)
-    nb, wb, cb = b.interpolate_points(axis, side_b, P, Q)
-    sc.add_many(na, wa, ca, nb, wb, cb, axes, A, row, face_points(axis, lower.hi[axis], P, Q))
+    na, wa, ca, nb, wb, cb, A, points = _joint_points(_geometry(a), _geometry(b), side_a, side_b, axis, rect, refine,
+                                                      rule, lower.hi[axis])
+    sc.add_many(na, wa, ca, nb, wb, cb, axes, A, row, points)
     return Contact(cid, a.id, b.id, axis, axes[:3].copy(), float(A.sum()), slice(start, len(sc)), props)
 
 

@@ -7,6 +7,7 @@ Nothing is lost: a run that raised has a row too (``error_row``), with
 status 'error' and the exception as its message.  The columns:
 docs/formulation.md, section 12.
 """
+import functools
 import json
 import math
 import os
@@ -83,7 +84,10 @@ class Row:
         return out
 
 
+@functools.cache
 def version():
+    """The solver's version, package and source hash (the code this process
+    loaded: computed once)."""
     return f"{__version__}+{source_hash()}"
 
 

@@ -12,10 +12,12 @@ it on).  Each lane's arithmetic is the kernels' of one simulation, term
 by term in the same order, so a lane gives the bits of its run alone.
 """
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.core.extending import intrinsic
 
 from .layout import JS_SN, JS_T1, JS_T2
-from .joints import subcontact_law
+from .joints import laws
 
 _INLINE = dict(cache=True, inline="always", error_model="numpy")
 # the three kernels a step calls once are functions of their own (LLVM may
@@ -77,19 +79,63 @@ def _less_scaled(f, e, g):
             f[4] - e[4] * g[4], f[5] - e[5] * g[5], f[6] - e[6] * g[6], f[7] - e[7] * g[7])
 
 
+_V8 = ir.VectorType(ir.DoubleType(), 8)
+_I32, _I64 = ir.IntType(32), ir.IntType(64)
+
+
+@intrinsic
+def ktu8(typingctx, k, u, f, cols, o):
+    """f[i, o:o + 8] = sum_j k[j, i] u[j, o:o + 8] for a cell's 24 x 24
+    matrix k and the columns o to o + 7 of u and f (24 rows of ``cols``
+    each; all three flat, C order): column b of K^T U, each of its 24
+    values the fused multiply-adds of its 24 terms in order of j, from
+    zero.  That is what BLAS's kernels compute for one value of a product
+    (so a lane gives the bits of its run alone, whose cells multiply by
+    BLAS: cells.py), written out for eight columns at once: the 24 vectors
+    of u loaded once, six outputs accumulated at a time, each k[j, i]
+    broadcast.  2.4 times as fast as BLAS on these small products, whose
+    packing of the operands costs as much as the multiplications."""
+    sig = types.void(k, u, f, types.intp, types.intp)
+
+    def codegen(context, builder, signature, args):
+        kp, up, fp = (context.make_array(t)(context, builder, a).data for t, a in zip(signature.args, args[:3]))
+        cols, o = args[3], args[4]
+        fma = builder.module.globals.get("llvm.fma.v8f64") or ir.Function(
+            builder.module, ir.FunctionType(_V8, [_V8, _V8, _V8]), "llvm.fma.v8f64")
+
+        def row(p, r):          # the eight doubles of row r from column o, as a vector
+            at = builder.add(builder.mul(ir.Constant(_I64, r), cols), o)
+            return builder.bitcast(builder.gep(p, [at]), _V8.as_pointer())
+
+        undef, splat = ir.Constant(_V8, ir.Undefined), ir.Constant(ir.VectorType(_I32, 8), [0] * 8)
+        U = [builder.load(row(up, j), align=8) for j in range(24)]
+        for i0 in range(0, 24, 6):
+            acc = [ir.Constant(_V8, [0.0] * 8)] * 6
+            for j in range(24):
+                for r in range(6):
+                    kji = builder.load(builder.gep(kp, [ir.Constant(_I64, 24 * j + i0 + r)]))
+                    kv = builder.shuffle_vector(builder.insert_element(undef, kji, ir.Constant(_I32, 0)), undef, splat)
+                    acc[r] = builder.call(fma, [kv, U[j], acc[r]])
+            for r in range(6):
+                builder.store(acc[r], row(fp, i0 + r), align=8)
+        return context.get_dummy_value()
+    return sig, codegen
+
+
 @njit(**_CALL)
 def cell_forces(nodes, cells, scratch, nl):
     """cells.cell_forces across the lanes, a block of cells at a time (as
     many as scratch.U has columns for: batch.CELL_COLUMNS over the lanes): the
     block's corner displacements gathered into the columns of U (column
-    c S + b: the block's cell c of lane b), one product K^T U per cell
-    kind (BLAS) on them, then each cell's columns scattered to its nodes,
-    eight lanes a vector.  Column c S + b of K^T U is the row of U K that
-    a run alone computes: the same products summed in the same order (K is
-    symmetric only to round-off, so the transpose, not K); the blocks go
-    in cell order, so each node sums its cells' forces in the order a run
-    alone does.  A block's U and F stay in the first-level cache (over
-    all cells at once they did not: a third slower)."""
+    c S + b: the block's cell c of lane b), the product K^T U for each cell
+    kind on them (``ktu8``, eight columns at a time), then each cell's
+    columns scattered to its nodes, eight lanes a vector.  Column c S + b
+    of K^T U is the row of U K that a run alone computes, the same terms
+    in the same order (K is symmetric only to round-off, so the transpose,
+    not K); the blocks go in cell order, so each node sums its cells'
+    forces in the order a run alone does.  A block's U and F stay in the
+    first-level cache (over all cells at once they did not: a third
+    slower)."""
     uf, ff = nodes.u.ravel(), nodes.f.ravel()
     ix, kind, K = cells.nodes, cells.kind, cells.K
     scale = cells.scale.ravel()
@@ -106,9 +152,10 @@ def cell_forces(nodes, cells, scratch, nl):
                 for d in range(3):
                     for o in range(0, nl, 8):
                         store8(Uf, (3 * a + d) * cols + (c - c0) * nl + o, load8(uf, (3 * nd + d) * nl + o))
-        U = Uf[:24 * cols].reshape(24, cols)
         for k in range(nk):
-            np.dot(K[k].T, U, Ff[k * 24 * size:k * 24 * size + 24 * cols].reshape(24, cols))
+            Kk, Fk = K[k].ravel(), Ff[k * 24 * size:k * 24 * size + 24 * cols]
+            for o in range(0, cols, 8):
+                ktu8(Kk, Uf, Fk, cols, o)
         for c in range(c0, c1):
             base = kind[c] * 24 * size + (c - c0) * nl
             for o in range(0, nl, 8):
@@ -161,8 +208,7 @@ def contact_forces(jlaw, dt, nodes, sc, nl):
     wt = sc.force.T             # Fortran-ordered (rows x 3): its transpose's rows are the columns, contiguous
     w0, w1, w2 = wt[0], wt[1], wt[2]
     increments(dt, nodes.v.ravel(), sc, w0, w1, w2, nl)
-    for i in range(sc.area.shape[0] * nl):
-        subcontact_law(jlaw, i, w0[i], w1[i], w2[i], sc.par, sc.state)
+    laws(jlaw, w0, w1, w2, sc.par, sc.state)
     forces(sc, w0, w1, w2, nl)
     gather_forces(nodes.f.ravel(), sc.gptr, sc.gs, sc.gw, w0, w1, w2, nl)
 

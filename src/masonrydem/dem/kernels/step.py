@@ -131,9 +131,10 @@ def _one(nodes, zones, cells, joints, bearings, bodies):
 
 
 @njit(**_INLINE)
-def _one_lane(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist,
-              work, scratch):
-    """A batch of one: the steps of one simulation (module docstring)."""
+def _one_lane(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
+              hist, work, scratch):
+    """A batch of one (``nl`` 1): the steps of one simulation (module
+    docstring)."""
     nodes, zones, cells, joints, bearings, bodies = _one(nodes, zones, cells, joints, bearings, bodies)
     hist = hist.reshape(hist.shape[0], hist.shape[1])
     work = work.reshape(2)
@@ -246,13 +247,10 @@ def lanes_steps(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, ce
 @overload(lanes_steps, prefer_literal=True)
 def _lanes_steps(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
                  hist, work, scratch):
-    if literal(nl, "the lanes") == 1:
-        return (lambda zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies,
-                mon, hist, work, scratch: _one_lane(zlaw, jlaw, rigid, large, gon, nsteps, ctl, nodes, zones, cells,
-                                                    joints, bearings, bodies, mon, hist, work, scratch))
+    impl = _one_lane if literal(nl, "the lanes") == 1 else _lanes
     return (lambda zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
-            hist, work, scratch: _lanes(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints,
-                                        bearings, bodies, mon, hist, work, scratch))
+            hist, work, scratch: impl(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints,
+                                      bearings, bodies, mon, hist, work, scratch))
 
 
 @njit(**_CACHE)
