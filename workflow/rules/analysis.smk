@@ -1,8 +1,14 @@
+from snakemake.exceptions import WorkflowError
+
 # the study's two long analyses, its equations' and its indices' intervals,
 # each on half the cores: they run side by side, first (priority 2, and the
 # statistics that the indices wait for), then the pictures (1), the short
-# figures and tables in the gaps
-ANALYSIS_THREADS = max(1, workflow.cores // 2)
+# figures and tables in the gaps (a command that runs nothing, such as
+# --report, gives no --cores: any number will do)
+try:
+    ANALYSIS_THREADS = max(1, workflow.cores // 2)
+except WorkflowError:
+    ANALYSIS_THREADS = 1
 FIGURE_CAPTIONS = ["running_mean", "brick_share", "correlation_vs_sigma", "scatter_deviation", "curves_by_mode"]
 REGRESSION_CAPTIONS = ["equations", "design_comparison"]
 
