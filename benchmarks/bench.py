@@ -137,7 +137,7 @@ def _kernels(zlaw, jlaw, nl):
         @njit(error_model="numpy")
         def cells(n, nodes, c, scratch):
             for _ in range(n):
-                lanes.cell_forces(nodes, c, scratch, nl)
+                lanes.cell_forces(nodes, c, nl)
 
         @njit(error_model="numpy")
         def joints(n, dt, nodes, bodies, sc):

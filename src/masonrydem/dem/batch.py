@@ -155,18 +155,13 @@ class Batch:
         return done, rows, np.isfinite(rows[-1, K.H_KE]) & np.isfinite(rows[-1, K.H_RATIO])
 
 
-CELL_COLUMNS = 128     # the columns of a block of cells across lanes (lanes.py; 64 to 256 within 10 %)
-
-
 def _cell_space(nc, nk, lanes):
     """The cells' work space (scratch U and F): a run's rows U (nc, 24),
-    F (nk, nc, 24) for a batch of one (cells.py), a block's columns
-    U (24, B S), F (nk, 24, B S) across lanes (lanes.py: B cells,
-    CELL_COLUMNS over the lanes)."""
-    if lanes == 1:
-        return np.zeros((nc, 24)), np.zeros((nk, nc, 24))
-    cols = max(1, min(nc, CELL_COLUMNS // lanes)) * lanes
-    return np.zeros((24, cols)), np.zeros((nk, 24, cols))
+    F (nk, nc, 24) for a batch of one (cells.py); none for more lanes,
+    whose kernel works in registers (lanes.py)."""
+    if lanes > 1:
+        nc = 0
+    return np.zeros((nc, 24)), np.zeros((nk, nc, 24))
 
 
 def lane_key(assembly, numerics):

@@ -35,6 +35,12 @@ class Block:
     def is_box(self):
         return self.cells is not None
 
+    @property
+    def geometry(self):
+        """What a box's faces are: its box, grid, first node and rigidity
+        (``box`` makes it a box again)."""
+        return self.lo, self.hi, self.cells, self.node0, self.rigid
+
     def face_axes(self, axis):
         return (axis + 1) % 3, (axis + 2) % 3
 
@@ -65,8 +71,7 @@ class Block:
         """``interpolate`` at the points (P[i], Q[i]): (nodes (n, 4), weights
         (n, 4), count (n,)), each row's nodes and weights first, unused
         slots node 0 and weight 0 (read-only: memo.py)."""
-        return _interpolate_points(self.lo, self.hi, self.cells, self.node0, self.rigid, axis, side, np.asarray(P),
-                                   np.asarray(Q))
+        return _interpolate_points(self.geometry, axis, side, np.asarray(P), np.asarray(Q))
 
     def _interpolate_points(self, axis, side, P, Q):
         n = P.size
@@ -102,11 +107,17 @@ class Block:
                 * int(np.sum((gq >= qlo - GEOM_TOL) & (gq <= qhi + GEOM_TOL))))
 
 
+def box(geometry):
+    """The box of ``geometry`` (Block.geometry): its faces, without a
+    material or mesh."""
+    lo, hi, cells, node0, rigid = geometry
+    return Block(-1, None, None, node0, np.asarray(lo), np.asarray(hi), cells, rigid)
+
+
 @memoized(exact)
-def _interpolate_points(lo, hi, cells, node0, rigid, axis, side, P, Q):
-    """Block.interpolate_points of the box [lo, hi] (its geometry alone)."""
-    box = Block(-1, None, None, node0, np.asarray(lo), np.asarray(hi), cells, rigid)
-    return box._interpolate_points(axis, side, P, Q)
+def _interpolate_points(geometry, axis, side, P, Q):
+    """Block.interpolate_points of a box's geometry alone."""
+    return box(geometry)._interpolate_points(axis, side, P, Q)
 
 
 def breakpoints(lo, hi, *lines):

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import kernels as K
-from .blocks import (GEOM_TOL, Block, check_3, face_points, face_quadrature, face_refine, local_axes,
+from .blocks import (GEOM_TOL, box, check_3, face_points, face_quadrature, face_refine, local_axes,
                      refine_axes)
 from .memo import exact, memoized
 from ..errors import InputError
@@ -127,19 +127,9 @@ def find_joints(blocks, law, props, refine, rule="simpson"):
     grids with their tributary areas (blocks.trapezoid)."""
     boxes = [b for b in blocks if b.is_box]
     contacts, sc = [], SubContacts()
-    for i, j, axis, rect in _touching(tuple(_geometry(b) for b in boxes)):
+    for i, j, axis, rect in _touching(tuple(b.geometry for b in boxes)):
         contacts.append(_joint(len(contacts), sc, boxes[i], boxes[j], axis, rect, law, props, refine, rule))
     return contacts, sc
-
-
-def _geometry(block):
-    """What a box's faces are: its box, grid, first node and rigidity."""
-    return block.lo, block.hi, block.cells, block.node0, block.rigid
-
-
-def _box(geometry):
-    lo, hi, cells, node0, rigid = geometry
-    return Block(-1, None, None, node0, np.asarray(lo), np.asarray(hi), cells, rigid)
 
 
 @memoized(exact)
@@ -147,7 +137,7 @@ def _touching(geometries):
     """(i, j, axis, rect) of each pair of touching box faces, box i's face
     at its hi side on box j's lo side, overlapping in the rectangle rect
     (a tuple; read-only: memo.py)."""
-    boxes, out = [_box(g) for g in geometries], []
+    boxes, out = [box(g) for g in geometries], []
     for i, b1 in enumerate(boxes):
         for k, b2 in enumerate(boxes[i + 1:], i + 1):
             for axis in range(3):
@@ -166,7 +156,7 @@ def _touching(geometries):
 @memoized(exact)
 def _upper_finer(lower, upper, axis, rect):
     """Whether the upper face has more gridpoints in the overlap."""
-    return _box(upper).nodes_in_rect(axis, rect) > _box(lower).nodes_in_rect(axis, rect)
+    return box(upper).nodes_in_rect(axis, rect) > box(lower).nodes_in_rect(axis, rect)
 
 
 @memoized(exact)
@@ -174,7 +164,7 @@ def _joint_points(ga, gb, side_a, side_b, axis, rect, refine, rule, coord):
     """A joint's sub-contacts on the face of the box ga (side A) against
     the face of gb: (nodes, weights, counts of A, of B, areas, points)
     (read-only: memo.py)."""
-    a, b = _box(ga), _box(gb)
+    a, b = box(ga), box(gb)
     P, Q, A = face_quadrature(rect, zip(a.face_grid(axis), b.face_grid(axis)), face_refine(refine, axis), rule)
     na, wa, ca = a.interpolate_points(axis, side_a, P, Q)
     nb, wb, cb = b.interpolate_points(axis, side_b, P, Q)
@@ -183,7 +173,7 @@ def _joint_points(ga, gb, side_a, side_b, axis, rect, refine, rule, coord):
 
 def _joint(cid, sc, lower, upper, axis, rect, law, props, refine, rule):
     # sub-contacts on the finer face (more gridpoints in the overlap)
-    if _upper_finer(_geometry(lower), _geometry(upper), axis, rect):
+    if _upper_finer(lower.geometry, upper.geometry, axis, rect):
         a, b, side_a, side_b, sign = upper, lower, 0, 1, -1.0
     else:
         a, b, side_a, side_b, sign = lower, upper, 1, 0, 1.0
@@ -195,7 +185,7 @@ def _joint(cid, sc, lower, upper, axis, rect, law, props, refine, rule):
     row = props.row()
     axes = local_axes(axis, sign)
     start = len(sc)
-    na, wa, ca, nb, wb, cb, A, points = _joint_points(_geometry(a), _geometry(b), side_a, side_b, axis, rect, refine,
+    na, wa, ca, nb, wb, cb, A, points = _joint_points(a.geometry, b.geometry, side_a, side_b, axis, rect, refine,
                                                       rule, lower.hi[axis])
     sc.add_many(na, wa, ca, nb, wb, cb, axes, A, row, points)
     return Contact(cid, a.id, b.id, axis, axes[:3].copy(), float(A.sum()), slice(start, len(sc)), props)

@@ -72,43 +72,46 @@ def minus8(t, w, a, o):
 
 
 # --- cells -------------------------------------------------------------------
-@njit(**_INLINE)
-def _less_scaled(f, e, g):
-    """f - e g, lane by lane (f -= e g)."""
-    return (f[0] - e[0] * g[0], f[1] - e[1] * g[1], f[2] - e[2] * g[2], f[3] - e[3] * g[3],
-            f[4] - e[4] * g[4], f[5] - e[5] * g[5], f[6] - e[6] * g[6], f[7] - e[7] * g[7])
-
-
 _V8 = ir.VectorType(ir.DoubleType(), 8)
 _I32, _I64 = ir.IntType(32), ir.IntType(64)
 
 
 @intrinsic
-def ktu8(typingctx, k, u, f, cols, o):
-    """f[i, o:o + 8] = sum_j k[j, i] u[j, o:o + 8] for a cell's 24 x 24
-    matrix k and the columns o to o + 7 of u and f (24 rows of ``cols``
-    each; all three flat, C order): column b of K^T U, each of its 24
-    values the fused multiply-adds of its 24 terms in order of j, from
-    zero.  That is what BLAS's kernels compute for one value of a product
-    (so a lane gives the bits of its run alone, whose cells multiply by
-    BLAS: cells.py), written out for eight columns at once: the 24 vectors
-    of u loaded once, six outputs accumulated at a time, each k[j, i]
-    broadcast.  2.4 times as fast as BLAS on these small products, whose
-    packing of the operands costs as much as the multiplications."""
-    sig = types.void(k, u, f, types.intp, types.intp)
+def cell8(typingctx, k, u, f, nodes, e, nl, o):
+    """A cell's forces on its nodes in eight lanes, from lane o on:
+    f[n_i] -= e (K^T U)_i, U the 24 displacements of its corners ``nodes``
+    (an 8-tuple of node indices) gathered from u, K its 24 x 24 matrix
+    ``k`` (flat, C order), e its eight lanes' scales (an 8-tuple); u and f
+    the nodes' values flat (node n component d lane b at (3 n + d) nl + b).
+    Each value of K^T U is the fused multiply-adds of its 24 terms in
+    order of j, from zero: what BLAS's kernels compute for one value of a
+    product, so a lane gives the bits of its run alone, whose cells
+    multiply by BLAS (cells.py); then each is scaled and subtracted, as a
+    run alone does.  Written out for eight lanes at once: the 24 vectors
+    of U loaded once, six outputs accumulated at a time, each k[j, i]
+    broadcast.  On these small products BLAS's packing of the operands
+    costs as much as its multiplications; this costs less than half."""
+    sig = types.void(k, u, f, nodes, e, types.intp, types.intp)
 
     def codegen(context, builder, signature, args):
-        kp, up, fp = (context.make_array(t)(context, builder, a).data for t, a in zip(signature.args, args[:3]))
-        cols, o = args[3], args[4]
+        kp, up, fp = (context.make_array(t)(context, builder, a).data for t, a in zip(signature.args[:3], args[:3]))
+        nds, ev, nl, o = args[3:]
         fma = builder.module.globals.get("llvm.fma.v8f64") or ir.Function(
             builder.module, ir.FunctionType(_V8, [_V8, _V8, _V8]), "llvm.fma.v8f64")
+        wide = signature.args[3].dtype.bitwidth >= 64
 
-        def row(p, r):          # the eight doubles of row r from column o, as a vector
-            at = builder.add(builder.mul(ir.Constant(_I64, r), cols), o)
+        def vec(p, i):          # the eight lanes of the cell's value i (corner i // 3, component i % 3)
+            nd = builder.extract_value(nds, i // 3)
+            nd = nd if wide else builder.sext(nd, _I64)
+            at = builder.add(builder.mul(builder.add(builder.mul(nd, ir.Constant(_I64, 3)), ir.Constant(_I64, i % 3)),
+                                         nl), o)
             return builder.bitcast(builder.gep(p, [at]), _V8.as_pointer())
 
         undef, splat = ir.Constant(_V8, ir.Undefined), ir.Constant(ir.VectorType(_I32, 8), [0] * 8)
-        U = [builder.load(row(up, j), align=8) for j in range(24)]
+        scale = undef
+        for b in range(8):
+            scale = builder.insert_element(scale, builder.extract_value(ev, b), ir.Constant(_I32, b))
+        U = [builder.load(vec(up, j), align=8) for j in range(24)]
         for i0 in range(0, 24, 6):
             acc = [ir.Constant(_V8, [0.0] * 8)] * 6
             for j in range(24):
@@ -117,54 +120,27 @@ def ktu8(typingctx, k, u, f, cols, o):
                     kv = builder.shuffle_vector(builder.insert_element(undef, kji, ir.Constant(_I32, 0)), undef, splat)
                     acc[r] = builder.call(fma, [kv, U[j], acc[r]])
             for r in range(6):
-                builder.store(acc[r], row(fp, i0 + r), align=8)
+                p = vec(fp, i0 + r)
+                builder.store(builder.fsub(builder.load(p, align=8), builder.fmul(scale, acc[r])), p, align=8)
         return context.get_dummy_value()
     return sig, codegen
 
 
 @njit(**_CALL)
-def cell_forces(nodes, cells, scratch, nl):
-    """cells.cell_forces across the lanes, a block of cells at a time (as
-    many as scratch.U has columns for: batch.CELL_COLUMNS over the lanes): the
-    block's corner displacements gathered into the columns of U (column
-    c S + b: the block's cell c of lane b), the product K^T U for each cell
-    kind on them (``ktu8``, eight columns at a time), then each cell's
-    columns scattered to its nodes, eight lanes a vector.  Column c S + b
-    of K^T U is the row of U K that a run alone computes, the same terms
-    in the same order (K is symmetric only to round-off, so the transpose,
-    not K); the blocks go in cell order, so each node sums its cells'
-    forces in the order a run alone does.  A block's U and F stay in the
-    first-level cache (over all cells at once they did not: a third
-    slower)."""
+def cell_forces(nodes, cells, nl):
+    """cells.cell_forces across the lanes: each cell in order, eight lanes
+    at a time (``cell8``), so that each node sums its cells' forces in the
+    order a run alone does.  Lane b of a cell's K^T U is the row of U K
+    that a run alone computes, the same terms in the same order (K is
+    symmetric only to round-off, so the transpose, not K)."""
     uf, ff = nodes.u.ravel(), nodes.f.ravel()
     ix, kind, K = cells.nodes, cells.kind, cells.K
     scale = cells.scale.ravel()
-    nc, nk = ix.shape[0], K.shape[0]
-    Uf, Ff = scratch.U.ravel(), scratch.F.ravel()
-    size = scratch.U.shape[1]           # columns of a full block
-    blk = size // nl
-    for c0 in range(0, nc, blk):
-        c1 = min(nc, c0 + blk)
-        cols = (c1 - c0) * nl
-        for c in range(c0, c1):
-            for a in range(8):
-                nd = ix[c, a]
-                for d in range(3):
-                    for o in range(0, nl, 8):
-                        store8(Uf, (3 * a + d) * cols + (c - c0) * nl + o, load8(uf, (3 * nd + d) * nl + o))
-        for k in range(nk):
-            Kk, Fk = K[k].ravel(), Ff[k * 24 * size:k * 24 * size + 24 * cols]
-            for o in range(0, cols, 8):
-                ktu8(Kk, Uf, Fk, cols, o)
-        for c in range(c0, c1):
-            base = kind[c] * 24 * size + (c - c0) * nl
-            for o in range(0, nl, 8):
-                e = load8(scale, c * nl + o)
-                for a in range(8):
-                    nd = ix[c, a]
-                    for d in range(3):
-                        at = (3 * nd + d) * nl + o
-                        store8(ff, at, _less_scaled(load8(ff, at), e, load8(Ff, base + (3 * a + d) * cols + o)))
+    for c in range(ix.shape[0]):
+        corners = (ix[c, 0], ix[c, 1], ix[c, 2], ix[c, 3], ix[c, 4], ix[c, 5], ix[c, 6], ix[c, 7])
+        Kc = K[kind[c]].ravel()
+        for o in range(0, nl, 8):
+            cell8(Kc, uf, ff, corners, load8(scale, c * nl + o), nl, o)
 
 
 # --- sub-contacts ----------------------------------------------------------------

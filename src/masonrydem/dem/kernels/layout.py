@@ -179,8 +179,8 @@ class Scratch(NamedTuple):
     pending: np.ndarray  # (nt, 2) zones that may yield: (tetrahedron, group)
     a: np.ndarray        # (3, 3) eigenvalues (diagonal)
     evec: np.ndarray     # (3, 3) eigenvectors (columns)
-    U: np.ndarray        # (24, B S) a block of B cells' corner displacements, a column per cell and lane ...
-    F: np.ndarray        # (nk, 24, B S) ... times each kind's matrix
+    U: np.ndarray        # (nc, 24) a run's cells' corner displacements, a row per cell (a batch of one) ...
+    F: np.ndarray        # (nk, nc, 24) ... times each kind's matrix (a batch of more lanes: empty, lanes.py)
     sums: np.ndarray     # (4, S) per lane: sum |F| free, sum |applied|, kinetic energy, work rate
     vf: np.ndarray       # (S,) per lane: the velocity factor of the step
 

@@ -191,7 +191,7 @@ def _deformable_lanes(zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones
     (lanes.py); each lane's sums into scratch.sums."""
     for b in range(nl):
         zone_forces(zlaw, ctl.dt[b], lane_nodes(nodes, b), lane_zones(zones, b), scratch)
-    L.cell_forces(nodes, cells, scratch, nl)
+    L.cell_forces(nodes, cells, nl)
     L.contact_forces(jlaw, ctl.dt, nodes, joints, nl)
     L.contact_forces(JOINT_BEARING, ctl.dt, nodes, bearings, nl)
     L.advance_nodes(gon, grav, vf, ctl, nodes, scratch.sums, nl)
