@@ -125,8 +125,8 @@ FAULTS = [
     ("inputs left in the variables' SI units", "analysis/sensitivity.py",
      "return np.column_stack([scale[n] * m.ppf(", "return np.column_stack([1.0 * m.ppf("),
     ("indices named after the wrong input", "analysis/sensitivity.py",
-     "for k, col in enumerate(columns):\n                rows.append",
-     "for k, col in enumerate(columns[::-1]):\n                rows.append"),
+     "for k, col in enumerate(columns):\n            rows.append",
+     "for k, col in enumerate(columns[::-1]):\n            rows.append"),
     ("the correlation taken for the values", "analysis/sensitivity.py", "r[i, j] = r[j, i] = rho",
      "r[i, j] = r[j, i] = 0.95 * rho"),
     # fractiles
