@@ -14,21 +14,39 @@ $(STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
-# A reproduction check: every simulation but the accuracy study's, rerun
-# from the code alone into a folder of its own (never into the committed
-# results/), its report, then run by run against the committed tables
-# (tools/compare_results.py; exit status 1 when a run differs).  Snakemake
-# resumes an interrupted reproduction; rm -rf reproduction to start afresh.
-# ACCURACY=1 reruns the accuracy study too (hours more: README); otherwise
-# its committed summaries are copied in for the report.
+# A reproduction check: every committed study rerun from the code alone
+# into a folder of its own (never into the committed results/), then
+# compared with results/ (tools/compare_results.py).  First each further
+# study, by its own workflow config (config/studies/*_workflow.yaml and
+# formats/*_workflow.yaml): its study, and its design value where the
+# config has a design section, into the reproduction's copy of its folder
+# (results/studies/nf -> $(REPRO)/studies/nf).  Then the main workflow's
+# default target and the model-form study, whose report pages of the
+# further studies and brick formats' scores read those reruns
+# (further_results), and the report.  The comparison walks results/: every
+# study it holds, every run, derived table, predictor and design table;
+# one missing or different exits 1.  Snakemake resumes an interrupted
+# reproduction; rm -rf reproduction to start afresh.  ACCURACY=1 reruns
+# the accuracy study too (hours more: README); otherwise its committed
+# summaries are copied in for the report.
 REPRO := reproduction/results
 ACCURACY ?= 0
+STUDY_CONFIGS := $(sort $(wildcard config/studies/*_workflow.yaml config/studies/formats/*_workflow.yaml))
+REPRO_CONFIG := results=$(REPRO) further_results=$(REPRO)/studies
 reproduce: $(STAMP)
-	@echo "make reproduce: validation, the 1000-run study, hard cases, reduced models, specimens and the"
-	@echo "model-form study, rerun into $(REPRO) (its time on two cores: README), then"
-	@echo "$(REPRO)/report.zip and a run-by-run comparison with results/."
-	@$(BIN)/snakemake all modelform $(if $(filter 1,$(ACCURACY)),accuracy) --config results=$(REPRO) -n --quiet rules
-	$(BIN)/snakemake --cores 2 all modelform $(if $(filter 1,$(ACCURACY)),accuracy) --config results=$(REPRO)
+	@echo "make reproduce: the further studies ($(STUDY_CONFIGS:config/studies/%_workflow.yaml=%)), then validation,"
+	@echo "the 1000-run study, hard cases, reduced models, specimens and the model-form study, rerun into"
+	@echo "$(REPRO) (its time on two cores: README), then $(REPRO)/report.zip and a comparison"
+	@echo "of every committed study, run by run and table by table, with results/."
+	@set -e; for f in $(STUDY_CONFIGS); do \
+	  out=$$(sed -n 's|^results: *results/|$(REPRO)/|p' $$f); \
+	  test -n "$$out" || { echo "$$f: its results folder is not under results/"; exit 1; }; \
+	  targets="study$$(grep -q '^design:' $$f && echo ' design' || true)"; \
+	  echo "$$f: $$targets into $$out"; \
+	  $(BIN)/snakemake --cores 2 $$targets --configfile config/config.yaml $$f --config results=$$out; \
+	done
+	@$(BIN)/snakemake all modelform $(if $(filter 1,$(ACCURACY)),accuracy) --config $(REPRO_CONFIG) -n --quiet rules
+	$(BIN)/snakemake --cores 2 all modelform $(if $(filter 1,$(ACCURACY)),accuracy) --config $(REPRO_CONFIG)
 ifneq ($(ACCURACY),1)
 	@echo "The accuracy study is not rerun (ACCURACY=1 reruns it): its committed summaries go into the report."
 	mkdir -p $(REPRO)/accuracy $(REPRO)/report/tables
@@ -36,7 +54,7 @@ ifneq ($(ACCURACY),1)
 	cp results/report/accuracy_*.rst $(REPRO)/report/
 	cp results/report/tables/accuracy_*.html $(REPRO)/report/tables/
 endif
-	$(BIN)/snakemake --report $(REPRO)/report.zip all accuracy modelform --config results=$(REPRO)
+	$(BIN)/snakemake --report $(REPRO)/report.zip all accuracy modelform --config $(REPRO_CONFIG)
 	$(BIN)/python tools/compare_results.py results $(REPRO) $(if $(filter 1,$(ACCURACY)),,--copied accuracy/runs.csv)
 
 # the report of the committed results (results/report.zip; on a clone it
@@ -68,11 +86,14 @@ bench-reduced: $(STAMP)
 	$(BIN)/python -c "import pandas as pd; print(pd.read_csv('results/reduced/summary.csv').to_string(index=False))"
 
 # seeded faults in every module of the study's end (masonry rules, units,
-# the result row, classification, the study file and its sampling,
-# statistics, equations, Sobol indices, fractiles, brick formats, predict,
-# the validation tables, captions), each run against the tests that guard
-# its module: every one must be caught, a fault whose text no longer
-# matches fails the tool (benchmarks/mutants.py; about 7 minutes)
+# the result row, classification, the study file, its sampling and terms,
+# statistics, equations, Sobol indices and their check on the solver,
+# fractiles, brick formats, predict, the lab sheet, its fit and the design
+# value, the validation tables, captions, the landing page), each run
+# against the tests that guard its module: every one must be caught; a
+# fault whose text no longer matches fails the tool, and
+# tests/test_mutants.py in `make test` (benchmarks/mutants.py; its time:
+# CHANGELOG.md)
 mutants: $(STAMP)
 	$(BIN)/python benchmarks/mutants.py
 

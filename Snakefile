@@ -16,6 +16,7 @@ include: "workflow/rules/reduced.smk"
 include: "workflow/rules/specimens.smk"
 include: "workflow/rules/modelform.smk"
 include: "workflow/rules/design.smk"
+include: "workflow/rules/sobol_check.smk"
 
 
 # the saved records put back before Snakemake plans, once every rule is
@@ -44,6 +45,7 @@ rule all:
         get_specimen_outputs(),
         get_further_outputs(),
         get_design_outputs(),
+        get_sobol_check_outputs(),
 
 
 # the records of what made each result, for a clone (workflow/rules/provenance.smk)

@@ -270,7 +270,7 @@ def test_accuracy_convergence_and_choice():
     # judged on case a: c (+0.2 %, 2 s) is the cheapest candidate within 2 %, the defaults (+1 %) beside it
     assert choice.loc[choice.knee, "setting"].tolist() == ["c"]
     assert choice.set_index("setting").loc["default", "max_abs_error"] == pytest.approx(0.01)
-    conv_text = fill("accuracy_convergence", captions.accuracy_convergence(conv))
+    conv_text = fill("accuracy_convergence", dict(captions.accuracy_convergence(conv), tolerance="1 %"))
     assert "- a: **10.000 kN** (joint failure), finest level (two finest within 0.20 %" in conv_text
     values = captions.accuracy_choice(table, conv, choice, {"rate_x": "default"}, 0.02, ["numerics.cells=[8, 6, 2]"])
     assert values["cases"] == "a; not judged, no converged reference: b"

@@ -267,6 +267,123 @@ def test_predict_s_interval_is_that_of_the_out_of_fold_errors():
     assert q["ratio_q975"] - q["ratio_q025"] > np.quantile(fitted, 0.975) - np.quantile(fitted, 0.025)
 
 
+# --- predict where either mode may govern: two noisy laws ------------------------
+# a wallette's joint strength is the joint law times exp(SD_JOINT e), its brick
+# strength the brick law times exp(SD_BRICK e'), e and e' independent standard
+# normals; it fails in the lower of the two
+SD_JOINT, SD_BRICK = 0.04, 0.12
+
+
+def _joint_law(f_tj, sv):
+    return JOINT["intercept"] + JOINT["f_tj"] * f_tj + JOINT["sigma_v"] * sv
+
+
+def _brick_law(f_tu):
+    return BRICK["intercept"] + BRICK["f_tu"] * f_tu
+
+
+def _lower_of_two_noisy(rng, f_tu, f_tj, sv):
+    """The strengths and failure modes of wallettes of the two noisy laws."""
+    j = _joint_law(f_tj, sv) * np.exp(SD_JOINT * rng.standard_normal(sv.size))
+    b = _brick_law(f_tu) * np.exp(SD_BRICK * rng.standard_normal(sv.size))
+    return np.minimum(j, b), np.where(j <= b, "joint", "brick")
+
+
+@pytest.fixture(scope="module")
+def two_noisy_laws():
+    """The predictor fitted on 1000 samples x 3 levels of the two noisy
+    laws (about 1300 joint and 1700 brick runs), and those runs."""
+    rng = np.random.default_rng(21)
+    n = 1000
+    f_tu, f_tj = np.repeat(rng.uniform(2.0, 6.0, n), 3), np.repeat(rng.uniform(0.1, 0.8, n), 3)
+    sv = np.tile([0.0, 0.25, 0.5], n)
+    y, mode = _lower_of_two_noisy(rng, f_tu, f_tj, sv)
+    ns = pd.DataFrame(dict(sample=np.repeat(np.arange(n), 3), f_tu_mpa=f_tu, f_tj_mpa=f_tj, sigma_v_mpa=sv,
+                           failure_mode=mode, strength_mpa=y))
+    fits, _, _ = equations.prediction_equations(ns, TERMS, COLUMNS)
+    return predict.build(fits, ns, build_scene(WILLIS), "synthetic", COLUMNS, UNITS, "synthetic"), ns
+
+
+def _new_wallettes(p, seed, m, low, high):
+    """m new wallettes of the two noisy laws, inside the fitted range, whose
+    joint law over brick law lies between ``low`` and ``high``: their joint
+    and brick laws, strengths, and predict's intervals and modes."""
+    rng = np.random.default_rng(seed)
+    f_tu, f_tj = rng.uniform(2.05, 5.95, 40 * m), rng.uniform(0.12, 0.78, 40 * m)
+    sv = rng.choice([0.0, 0.25, 0.5], 40 * m)
+    r = _joint_law(f_tj, sv) / _brick_law(f_tu)
+    keep = np.flatnonzero((low < r) & (r < high))[:m]
+    assert keep.size == m
+    f_tu, f_tj, sv = f_tu[keep], f_tj[keep], sv[keep]
+    y, _ = _lower_of_two_noisy(rng, f_tu, f_tj, sv)
+    got = [predict.predict(p, f_tu=a * 1e6, f_tj=b * 1e6, sigma_v=c * 1e6) for a, b, c in zip(f_tu, f_tj, sv)]
+    lo, hi = np.array([g.interval_mpa for g in got]).T
+    return _joint_law(f_tj, sv), _brick_law(f_tu), y, lo, hi, np.array([g.mode for g in got])
+
+
+def test_predict_s_interval_covers_95_percent_where_the_brick_mode_governs(two_noisy_laws):
+    """Runs of two known laws with known errors (joint: SD 0.04 of its log,
+    brick: 0.12), each failing in the lower of its two strengths.  Where the
+    brick law lies well below the joint one (joint over brick above 1.4: the
+    brick's 97.5 % strength, exp(1.96 x 0.12) B = 1.265 B, is below the
+    joint's 2.5 %, exp(-1.96 x 0.04) J = 0.924 J) the brick mode governs,
+    and the interval is that of the brick's error alone: exp(-+1.96 x 0.12)
+    times the strength, 0.475 of it wide, within 10 % (the joint's error,
+    a third of the brick's, gives 0.157); it holds 95 % of 3000 new
+    wallettes, within 3 standard deviations of the fraction of 3000 and of
+    the two quantiles of the brick runs' ratios (sqrt(2 x 0.025 x 0.975 /
+    n) for n runs), and 0.01 more: the brick runs' ratios lack a little of
+    their upper tail, a brick run that would have been strong near the
+    crossing having failed in its joints instead."""
+    p, ns = two_noisy_laws
+    J, B, y, lo, hi, mode = _new_wallettes(p, 22, 3000, 1.4, np.inf)
+    assert set(mode) == {"brick"}
+    width = np.exp(1.96 * SD_BRICK) - np.exp(-1.96 * SD_BRICK)
+    assert np.median((hi - lo) / np.minimum(J, B)) == pytest.approx(width, rel=0.10)
+    n_brick = int((ns.failure_mode == "brick").sum())
+    limit = 3 * np.sqrt(0.95 * 0.05 / y.size + 2 * 0.025 * 0.975 / n_brick) + 0.01
+    assert np.mean((lo <= y) & (y <= hi)) == pytest.approx(0.95, abs=limit)
+
+
+def test_predict_s_interval_at_the_crossing_of_the_two_equations(two_noisy_laws):
+    """New wallettes of the two noisy laws (above) whose laws are within 8 %
+    of each other, where either mode may fail whichever equation is the
+    lower.  Their strength y = min(y_joint, y_brick) is at most either, so
+    it exceeds top = min(exp(1.96 x 0.04) J, exp(1.96 x 0.12) B), the lower
+    of the two modes' 97.5 % strengths, with a chance of at most 2.5 %; and
+    it falls below bot = min(exp(-1.96 x 0.04) J, exp(-1.96 x 0.12) B) with
+    a chance of at least 2.5 % (the weaker mode's alone) and at most 5 %
+    (one or the other below its own).  Over 3000 such wallettes, at most
+    2.5 % lie above the interval and 5 % below, each within 3 standard
+    deviations of the fraction of 3000.  Whichever equation governs: the
+    interval's upper bound is top within 3 %, and its lower bound reaches
+    down to bot, 3 % allowed (a bound above bot misses more than 2.5 %
+    below; the medians of their ratios: each mode's equation, fitted on its
+    own runs, which near the crossing are the weaker ones, lies a few per
+    cent below its law there); and the interval holds at least 92.5 % of
+    its wallettes, less 3 standard deviations of the fraction of their
+    number and of the two quantiles of the brick runs' ratios.  The governing mode's interval alone misses both: where
+    the joint mode governs, its lower bound is the joint's, about 8 % above
+    bot (the wallette may fail in its bricks, with their larger scatter),
+    and where the brick mode governs, its upper bound the brick's, about
+    7 % above top."""
+    p, ns = two_noisy_laws
+    J, B, y, lo, hi, mode = _new_wallettes(p, 23, 3000, 1 / 1.08, 1.08)
+    top = np.minimum(np.exp(1.96 * SD_JOINT) * J, np.exp(1.96 * SD_BRICK) * B)
+    bot = np.minimum(np.exp(-1.96 * SD_JOINT) * J, np.exp(-1.96 * SD_BRICK) * B)
+    m = y.size
+    assert np.mean(y > hi) <= 0.025 + 3 * np.sqrt(0.025 * 0.975 / m)
+    assert np.mean(y < lo) <= 0.05 + 3 * np.sqrt(0.05 * 0.95 / m)
+    n_brick = int((ns.failure_mode == "brick").sum())
+    for governing in ("joint", "brick"):
+        sel = mode == governing
+        assert sel.sum() >= 300, governing
+        assert np.median(hi[sel] / top[sel]) == pytest.approx(1.0, abs=0.03), governing
+        assert np.median(lo[sel] / bot[sel]) <= 1.03, governing
+        inside = np.mean(((lo <= y) & (y <= hi))[sel])
+        assert inside >= 0.925 - 3 * np.sqrt(0.925 * 0.075 / sel.sum() + 2 * 0.025 * 0.975 / n_brick), governing
+
+
 def test_check_takes_a_study_file_and_refuses_its_mistakes_with_exit_2(tmp_path):
     """`masonrydem check STUDY.yaml`: the Willis study described (its runs
     counted: 100 x 2 x 5 = 1,000), nothing drawn or run; a study file with

@@ -120,6 +120,51 @@ def test_equation_intervals_hold_the_true_coefficients(willis, columns):
     assert 1 / 1.5 < (ci["f_tj_hi"] - ci["f_tj_lo"]) / (2 * 1.96 * se) < 1.5
 
 
+def _two_mode_runs(seed, n, brick):
+    """n samples at three levels, each run failing in the lower of a known
+    joint law, 0.3 + 3 f_tj + 2 sigma_v, and the brick law ``brick``
+    (intercept, f_tu and f_tj coefficients, MPa), plus an error shared by
+    a sample's runs (SD 0.02 MPa) and each run's own (SD 0.01 MPa)."""
+    rng = np.random.default_rng(seed)
+    f_tu, f_tj = np.repeat(rng.uniform(2.0, 6.0, n), 3), np.repeat(rng.uniform(0.1, 0.8, n), 3)
+    sv = np.tile([0.0, 0.25, 0.5], n)
+    j, b = 0.3 + 3.0 * f_tj + 2.0 * sv, brick[0] + brick[1] * f_tu + brick[2] * f_tj
+    error = np.repeat(rng.normal(0, 0.02, n), 3) + rng.normal(0, 0.01, 3 * n)
+    return pd.DataFrame(dict(variant="nonspatial", ok=True, sample=np.repeat(np.arange(n), 3), sigma_v_mpa=sv,
+                             f_tu_mpa=f_tu, f_tj_mpa=f_tj, failure_mode=np.where(j <= b, "joint", "brick"),
+                             strength_mpa=np.minimum(j, b) + error))
+
+
+def test_the_brick_coefficients_intervals_cover_their_truths_over_repeated_studies(columns):
+    """60 studies of 30 samples (above; the brick law 0.2 + 0.35 f_tu + 0.2
+    f_tj, about 70 % of the runs), each with 20 resamples of whole samples:
+    the brick equation's intervals hold its true f_tu and f_tj coefficients
+    as often as a percentile interval of 20 resamples holds the middle 95 %
+    of the bootstrap distribution.  Its bounds, the 2.5 and 97.5 %
+    quantiles, are interpolated between the sorted resamples at positions
+    1 + 0.025 x 19 and 1 + 0.975 x 19, and the k-th of 20 sorted draws lies
+    on average at probability k / 21 (order statistics of uniforms), so the
+    interval holds on average (1 - 0.05) 19 / 21 = 0.860 of the bootstrap
+    distribution.  Within 3 binomial standard deviations of the 120 events
+    (two a study, nearly independent: f_tu and f_tj are drawn
+    independently), and 0.03 more below for the percentile bootstrap's
+    under-coverage on about 20 samples in the mode (the resamples spread
+    about sqrt((n - 4) / n) as much as the estimate does, four coefficients
+    fitted on n samples).  The intercept, whose estimate moves with the
+    slopes', within the same limits of its 60 events."""
+    expected = (1 - 2 * 0.025) * 19 / 21
+    hits = np.zeros(3)
+    terms = ("f_tu", "f_tj", "sigma_v")
+    for seed in range(60):
+        ns = _two_mode_runs(100 + seed, 30, (0.2, 0.35, 0.2))
+        ci = E.equation_intervals(ns, terms, columns, resamples=20, seed=seed).set_index("mode").loc["brick"]
+        hits += [ci[f"{t}_lo"] <= true <= ci[f"{t}_hi"] for t, true in (("intercept", 0.2), ("f_tu", 0.35), ("f_tj", 0.2))]
+    slopes = (hits[1] + hits[2]) / 120
+    assert expected - 0.03 - 3 * np.sqrt(expected * (1 - expected) / 120) <= slopes
+    assert slopes <= expected + 3 * np.sqrt(expected * (1 - expected) / 120)
+    assert abs(hits[0] / 60 - expected) <= 0.03 + 3 * np.sqrt(expected * (1 - expected) / 60)
+
+
 def test_equation_intervals_do_not_depend_on_the_number_of_processes(willis, columns):
     """The refits of the bootstrap are deterministic: on two processes, in
     blocks, they give the intervals of one process to the last bit, and the

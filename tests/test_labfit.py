@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 import yaml
-from scipy import stats
+from scipy import optimize, stats
 
 from masonrydem.analysis import labfit as F
 from masonrydem.analysis import labsheet as S
@@ -66,10 +66,136 @@ def test_tolerance_factor_matches_published_factors(n):
 
 
 def test_tolerance_bound_covers_at_its_confidence():
+    """xbar - k s of 4000 normal labs of 10, and tolerance_bound itself on
+    1000 lognormal labs of 5, is below the true 5 % fractile in 95 % of
+    them, within binomial limits (99.9 %)."""
     y = np.random.default_rng(12).normal(0, 1, (4000, 10))
     hits = np.sum(y.mean(1) - F.tolerance_factor(10) * y.std(1, ddof=1) <= stats.norm.ppf(0.05))
     lo, hi = limits(4000, 0.95)
     assert lo <= hits <= hi
+    mu, sigma = math.log(0.3), 0.25
+    labs = np.random.default_rng(14).lognormal(mu, sigma, (1000, 5))
+    lo, hi = limits(1000, 0.95)
+    assert lo <= sum(F.tolerance_bound(x, "lognormal") <= math.exp(mu - 1.6449 * sigma) for x in labs) <= hi
+
+
+# --- the exact factors, computed again without scipy's non-central t -------------------
+_U, _W = np.polynomial.legendre.leggauss(400)
+_U, _W = (_U + 1) / 2, _W / 2                      # Gauss-Legendre on the chi-square's probability, 0 to 1
+T_975_9, T_95_9 = 2.2622, 1.8331                  # Student's t, 9 degrees of freedom, as printed t tables give them
+
+
+def _nct_cdf(t, df, delta):
+    """P(T <= t), T = (Z + delta) / sqrt(V / df), Z standard normal, V chi-square (df): the
+    mean over V of Phi(t sqrt(V / df) - delta) by Gauss-Legendre on u = F_V(v) (not scipy's nct)."""
+    v = stats.chi2.ppf(_U, df)
+    return float(np.sum(_W * stats.norm.cdf(t * np.sqrt(v / df) - delta)))
+
+
+def _nct_ppf(q, df, delta):
+    return optimize.brentq(lambda t: _nct_cdf(t, df, delta) - q, -100.0, 100.0, xtol=1e-13)
+
+
+def _tolerance_k(n, content=0.95, conf=0.95):
+    """xbar - k s <= mu - z sigma when sqrt(n) (xbar - mu + z sigma) / s <= k sqrt(n), a
+    non-central t (n - 1, z sqrt(n)): k is its conf quantile over sqrt(n)."""
+    return _nct_ppf(conf, n - 1, stats.norm.ppf(content) * math.sqrt(n)) / math.sqrt(n)
+
+
+@pytest.mark.parametrize("n", [3, 5, 10, 20, 50])
+def test_tolerance_factor_is_the_exact_noncentral_t_factor(n):
+    """ISO 16269-6's factor (sigma unknown) against the same definition
+    computed by quadrature in the test, 90, 95 and 99 % content at 95 %
+    confidence, to 1e-6 (the quadrature's error is below 1e-7)."""
+    for content in (0.90, 0.95, 0.99):
+        assert F.tolerance_factor(n, content) == pytest.approx(_tolerance_k(n, content), rel=1e-6)
+
+
+# one-sided factors, 95 % content, 95 % confidence, sigma unknown, as tabulated for ISO 16269-6 (whose
+# table could not be read from a public source): Montgomery and Runger, Applied Statistics and
+# Probability for Engineers, Appendix Table XII, as the toleranceinterval package's tests print them
+TOLERANCE_95_95 = {5: 4.203, 10: 2.911, 20: 2.396, 30: 2.220, 50: 2.065}
+
+
+@pytest.mark.parametrize("n", sorted(TOLERANCE_95_95))
+def test_tolerance_factor_95_95_matches_the_printed_table(n):
+    """The printed factor to its last digit (0.0005) and a little."""
+    assert F.tolerance_factor(n) == pytest.approx(TOLERANCE_95_95[n], abs=6e-4)
+
+
+def test_tolerance_bound_on_data_by_hand():
+    """xbar - k s, s with n - 1 (written out), k the test's own factor, on the values (normal) and
+    their logs (lognormal), to 1e-6 (s over n puts it 5 % closer to the mean); the 95/95 bound is
+    also the lower end of the fractile's two-sided 90 % interval."""
+    x = np.array(EXAMPLE)
+    for dist, y, back in (("normal", x, float), ("lognormal", np.log(x), math.exp)):
+        s = math.sqrt(np.sum((y - y.mean()) ** 2) / (y.size - 1))
+        bound = back(y.mean() - _tolerance_k(10) * s)
+        assert F.tolerance_bound(x, dist) == pytest.approx(bound, rel=1e-6)
+        assert F.fractile_interval(x, dist, conf=0.90)[0] == pytest.approx(bound, rel=1e-6)
+
+
+def _fractile_ends(y, conf):
+    """The 5 % fractile's interval: sqrt(n) (ybar - mu - z_p sigma) / s is non-central t (n - 1, -z_p sqrt(n))."""
+    n, m, s = y.size, y.mean(), y.std(ddof=1)
+    t = [_nct_ppf(q, n - 1, stats.norm.ppf(0.95) * math.sqrt(n)) for q in (0.5 + conf / 2, 0.5 - conf / 2)]
+    return m - t[0] * s / math.sqrt(n), m - t[1] * s / math.sqrt(n)
+
+
+def test_fractile_interval_ends_by_the_noncentral_t_computed_again():
+    """Both ends, normal and lognormal, at the default (95 %) and 90 %, by the test's quadrature, to 1e-6."""
+    x = np.array(EXAMPLE)
+    for conf in (0.95, 0.90):
+        lo, hi = _fractile_ends(x, conf)
+        assert F.fractile_interval(x, "normal", conf=conf) == pytest.approx((lo, hi), rel=1e-6)
+        lo, hi = _fractile_ends(np.log(x), conf)
+        assert F.fractile_interval(x, "lognormal", conf=conf) == pytest.approx((math.exp(lo), math.exp(hi)), rel=1e-6)
+    assert F.fractile_interval(x, "lognormal") == pytest.approx(F.fractile_interval(x, "lognormal", conf=0.95))
+
+
+def _cov_ends(x, conf=0.95):
+    """sqrt(n) xbar / s is non-central t (n - 1, sqrt(n) / COV): the non-centralities that put
+    the observed value at the 0.025 and 0.975 quantiles, inverted."""
+    n, t = x.size, math.sqrt(x.size) * x.mean() / x.std(ddof=1)
+    lam = [optimize.brentq(lambda d: _nct_cdf(t, n - 1, d) - q, 0.0, 80.0, xtol=1e-12)
+           for q in (0.5 - conf / 2, 0.5 + conf / 2)]
+    return math.sqrt(n) / lam[0], math.sqrt(n) / lam[1]
+
+
+def _reads(text, value):
+    """A block's '0.2946 MPa' is ``value`` to its 4 significant digits."""
+    assert float(text.split()[0]) == pytest.approx(value, rel=5.1e-4), (text, value)
+
+
+@pytest.mark.parametrize("dist", ["lognormal", "normal"])
+def test_block_records_what_an_independent_computation_gives(dist):
+    """The block of the worked example's ten strengths: mean and the t
+    interval with the printed t_{9,0.975} = 2.2622; COV (n - 1) and its
+    exact interval (the test's quadrature); EN 1990's value with the printed
+    t_{9,0.95} = 1.8331, k_n = 1.8331 sqrt(1.1); the 95/95 tolerance bound
+    and the 5 % fractile's 95 % interval by the test's non-central t; the
+    model's mean = factor x the test's mean.  Each to its printed digits."""
+    x = np.array(EXAMPLE)
+    lab = {"values": x * 1e6, "quantity": "flexural bond strength", "method": "bond wrench", "path": "lab.csv",
+           "sha256": "0" * 64, "screened": []}
+    entry = F.block(lab, "bond", "materials.joints.ft", "Pa", 1 / 1.5, "by hand", 0, distribution=dist,
+                    resamples=19)[0]["bond"]
+    rec = entry["provenance"]["lab"]
+    n, m, s = 10, x.mean(), math.sqrt(np.sum((x - x.mean()) ** 2) / 9)
+    assert entry["distribution"] == dist and entry["cov"] == pytest.approx(s / m, abs=5.1e-5)
+    _reads(entry["mean"], m / 1.5)
+    _reads(rec["mean"], m)
+    for text, v in zip(rec["mean_95"], (m - T_975_9 * s / math.sqrt(n), m + T_975_9 * s / math.sqrt(n))):
+        _reads(text, v)
+    assert rec["cov_95"] == pytest.approx(_cov_ends(x), abs=5.1e-5)
+    y, back = (np.log(x), math.exp) if dist == "lognormal" else (x, float)
+    kn = T_95_9 * math.sqrt(1.1)
+    c = rec["characteristic"]
+    assert c["k_n"] == pytest.approx(kn, abs=6e-4) and c["v_x"] == "unknown"
+    _reads(c["en1990"], back(y.mean() - kn * y.std(ddof=1)))
+    _reads(c["tolerance_95_95"], back(y.mean() - _tolerance_k(n) * y.std(ddof=1)))
+    for text, v in zip(c["fractile_5_95"], _fractile_ends(y, 0.95)):
+        _reads(text, back(v))
 
 
 @pytest.mark.parametrize("n", [5, 10, 30])

@@ -273,3 +273,28 @@ def test_the_brick_and_lower_of_two_intervals_hold_their_truths():
     r = ns.strength_mpa.to_numpy() - low
     assert resid_sd == pytest.approx(np.sqrt(np.sum((r - r.mean()) ** 2) / (r.size - 1)), rel=1e-12)
     assert rows["lower of two"]["residual_sd_mpa"] == resid_sd
+
+
+def test_the_lower_of_two_mape_interval_is_that_of_both_modes_runs():
+    """Each run fails in the mode of the lower of two known laws, its
+    strength that law's times 1 + e, e normal with SD 0.5 % in the joint
+    mode and 5 % in the brick mode: the lower of two predicts each run
+    with its mode's equation (the two agree where they cross), so its MAPE
+    is the mean of |e| over all runs, sqrt(2 / pi) (0.5 % p_joint + 5 %
+    p_brick) with p the modes' shares of the runs (E|e| = sigma sqrt(2 /
+    pi)), about 2.2 %; the fits take a little of it (their few terms among
+    200 runs).  Its interval holds that value, and so is neither the joint
+    fit's MAPE interval (about 0.4 %) nor the brick's (about 4 %)."""
+    rng = np.random.default_rng(15)
+    f_tu, f_tj, sv, sample = _samples(16, 40)
+    j, b = JOINT(f_tu, f_tj, sv), 0.2 + 0.35 * f_tu + 0.2 * f_tj
+    mode = np.where(j <= b, "joint", "brick")
+    sd = np.where(mode == "joint", 0.005, 0.05)
+    ns = pd.DataFrame(dict(variant="nonspatial", ok=True, sample=sample, sigma_v_mpa=sv, f_tu_mpa=f_tu, f_tj_mpa=f_tj,
+                           failure_mode=mode, strength_mpa=np.minimum(j, b) * (1 + sd * rng.standard_normal(sv.size))))
+    assert 0.3 < (mode == "brick").mean() < 0.7
+    expected = 100 * np.sqrt(2 / np.pi) * sd.mean()
+    ci = E.equation_intervals(ns, TERMS, COLUMNS, resamples=200, seed=0).set_index("mode")
+    assert ci.loc["lower of two", "mape_pct_lo"] <= expected <= ci.loc["lower of two", "mape_pct_hi"]
+    for m in ("joint", "brick"):
+        assert not ci.loc[m, "mape_pct_lo"] <= expected <= ci.loc[m, "mape_pct_hi"], m

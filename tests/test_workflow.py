@@ -24,6 +24,27 @@ def smoke(tmp_path_factory):
     return root
 
 
+def test_the_sobol_check_runs_its_pick_freeze_design(smoke):
+    """config/smoke.yaml's check: 4 base points x (4 inputs + 2) = 24 runs at
+    its level, each base row A, A with input i from B (i = 1..4), B, in the
+    copula's independent inputs.  In the runs' own recorded inputs (f_tj,
+    f_tu, phi_j, E_b; E_b correlated with f_tu, which comes first), a mixed
+    run shares every input but the i-th with A, and E_b too where f_tu is
+    mixed; its i-th input is B's, but for E_b, whose value also depends on
+    A's f_tu.  One row per input in the check's table."""
+    runs = pd.read_parquet(smoke / "sobol_check" / "runs.parquet")
+    assert len(runs) == 24 and runs["sample"].tolist() == list(range(24)) and set(runs.sigma_v_mpa) == {0.5}
+    x = runs[["f_tj_mpa", "f_tu_mpa", "phi_j_deg", "E_b_mpa"]].to_numpy().reshape(4, 6, 4)
+    for i, moved in ((0, [0]), (1, [1, 3]), (2, [2]), (3, [3])):
+        assert np.array_equal(np.delete(x[:, 1 + i], moved, axis=1), np.delete(x[:, 0], moved, axis=1)), i
+        assert not np.any(x[:, 1 + i, moved] == x[:, 0, moved]), i
+        if i != 3:
+            assert np.array_equal(x[:, 1 + i, i], x[:, 5, i]), i
+    check = pd.read_csv(smoke / "sobol_check" / "check.csv")
+    assert check["input"].tolist() == ["f_tj_mpa", "f_tu_mpa", "phi_j_deg", "E_b_mpa"]
+    assert "24 runs of the solver" in (smoke / "report" / "sobol_check.rst").read_text()
+
+
 def test_smoke_study_outputs(smoke):
     """2 variants x 8 samples x 2 levels = 32 rows, one per simulation, with
     ids, inputs, outputs and status; statistics count every run."""
@@ -217,7 +238,7 @@ def test_a_study_that_sweeps_another_setting(tmp_path):
     (tmp_path / "joints.yaml").write_text(SWEEP_STUDY)
     (tmp_path / "workflow.yaml").write_text(yaml.safe_dump(dict(
         results=str(tmp_path / "results"), study=dict(file=str(tmp_path / "joints.yaml"), levels=["8 mm", "14 mm"],
-                                                      paper=None))))
+                                                      paper=None), sobol_check=None)))
     r = subprocess.run(SNAKEMAKE + ["study", "--cores", "2", "--configfile", "config/smoke.yaml",
                                     str(tmp_path / "workflow.yaml"), "-q"], capture_output=True, text=True)
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
@@ -344,8 +365,9 @@ def test_a_run_that_raises_is_recorded_as_the_workflow_runs_it(tmp_path, monkeyp
 
 def _planned(smoke, extra=(), env=None, targets=()):
     """The jobs a dry run over the completed smoke results plans: rule ->
-    count; the study's batches (rules simulate_<k>, simulate_fine_<k>) as
-    'simulate' and 'simulate_fine', counted in runs (their outputs)."""
+    count; the study's batches (rules simulate_<k>, simulate_fine_<k>,
+    simulate_sobol_<k>) as 'simulate', 'simulate_fine' and
+    'simulate_sobol', counted in runs (their outputs)."""
     r = subprocess.run(SNAKEMAKE + [*targets, "-n", "--configfile", "config/smoke.yaml", *extra, "--config",
                                     f"results={smoke}"], capture_output=True, text=True, env=env)
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
@@ -355,8 +377,10 @@ def _planned(smoke, extra=(), env=None, targets=()):
 def planned_jobs(text):
     """planned's count from a dry run's output ``text``."""
     jobs = (re.fullmatch(r"(\w+)\s+(\d+)", x.strip()) for x in text.splitlines())
-    out = {m[1]: int(m[2]) for m in jobs if m and m[1] != "total" and not re.fullmatch(r"simulate_(fine_)?\d+", m[1])}
-    for rule, outputs in re.findall(r"rule (simulate_(?:fine_)?)\d+:\n(?:\s+input:.*\n)?\s+output: (.*)\n", text):
+    out = {m[1]: int(m[2]) for m in jobs
+           if m and m[1] != "total" and not re.fullmatch(r"simulate_(fine_|sobol_)?\d+", m[1])}
+    for rule, outputs in re.findall(r"rule (simulate_(?:fine_|sobol_)?)\d+:\n(?:\s+input:.*\n)?\s+output: (.*)\n",
+                                    text):
         out[rule[:-1]] = out.get(rule[:-1], 0) + outputs.count("result.json")
     return out
 
@@ -390,9 +414,13 @@ def test_a_solver_change_reruns_every_simulation(smoke, tmp_path):
     assert planned.get("accuracy_check_run") == len(plan.reference_checks(smoke_config)), planned
     assert "sample" not in planned, planned
     assert planned.get("modelform_run") == len(plan.modelform_runs(smoke_config)) == 2, planned
+    check = smoke_config["sobol_check"]
+    assert planned.get("simulate_sobol") == check["base"] * (4 + 2) == 24, planned     # 4 inputs
+    assert "sobol_check_sample" not in planned, planned
 
 
-PER_RUN_RULES = {"simulate", "simulate_fine", "accuracy_run", "accuracy_check_run", "accuracy_scaling_run",
+PER_RUN_RULES = {"simulate", "simulate_fine", "simulate_sobol", "sobol_check_sample", "accuracy_run",
+                 "accuracy_check_run", "accuracy_scaling_run",
                  "modelform_run", "hard_case_run", "reduced_run", "specimen_run", "validation_run", "sample"}
 
 
@@ -425,9 +453,9 @@ def _clone(smoke, root):
     import shutil
 
     def left_out(folder, names):
-        run_folders = {"runs", "subsample", "scaling", "state", "logs"}
+        run_folders = {"runs", "subsample", "scaling", "state", "logs", "benchmarks"}
         return [n for n in names if (n in run_folders and not folder.endswith("validation"))
-                or n == "state" or n.startswith("samples_") and n.endswith(".json") or n.endswith(".vtm")]
+                or n == "state" or n.startswith("samples") and n.endswith(".json") or n.endswith(".vtm")]
     shutil.copytree(smoke, root, ignore=left_out)
     files = sorted((p for p in root.rglob("*") if p.is_file()), key=lambda p: p.stat().st_mtime)
     for i, p in enumerate(reversed(files)):
@@ -595,7 +623,7 @@ def test_the_sensitivity_rule_produces_the_indices_of_a_known_law(tmp_path):
     v_tj, v_tu = 16 * (0.4 * 0.3) ** 2, 0.25 * (0.25 * 3.75) ** 2
     for sv, g in t.groupby("sigma_v_mpa"):
         g = g.set_index("input")
-        assert (g.surrogate == "linear").all() and (g.cv_r2 > 0.999).all()
+        assert (g.surrogate == "gaussian process").all() and (g.cv_r2 > 0.999).all()
         for col, share in (("f_tj_mpa", v_tj / (v_tj + v_tu)), ("f_tu_mpa", v_tu / (v_tj + v_tu)),
                            ("phi_j_deg", 0.0), ("E_b_mpa", 0.0)):
             assert g.loc[col, "ST"] == pytest.approx(share, abs=0.01) and g.loc[col, "S1"] == pytest.approx(

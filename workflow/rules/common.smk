@@ -32,7 +32,7 @@ for key, value in workflow.config_settings.config.items():
 # a stage set to null (by a study's own workflow config, over config.yaml's)
 # is no stage of this workflow
 for key in ("validation", "hard_cases", "half_rate", "reduced", "specimens", "modelform", "accuracy",
-            "further_studies", "geometry_formats", "design"):
+            "further_studies", "geometry_formats", "design", "sobol_check"):
     if key in config and config[key] is None:
         del config[key]
 validate(config, "../../config/schema.yaml", set_default=True)
@@ -245,6 +245,8 @@ PAGES = {
                        "sampling_check", "study"),
     "sensitivity": (f"{R}/study/sensitivity.csv", "Sobol indices with 95 % intervals, beside the Pearson "
                     "correlations", "Study", "sensitivity", "study"),
+    "sobol_check": (f"{R}/sobol_check/check.csv", "The study's Sobol indices against direct estimates from the "
+                    "solver", "Study", "sobol_check", "sobol_check"),
     "equations": (f"{R}/study/equations.csv", "Prediction equations (Lasso, 5-fold CV) with 95 % intervals",
                   "Prediction", "equations", "study"),
     "design_comparison": (f"{R}/study/design_comparison.csv", "Design rules against the simulations", "Prediction",
@@ -292,8 +294,22 @@ def item(path, caption, category, label, subcategory=None):
                   subcategory=subcategory, labels={"result": label})
 
 
-# further studies shown in the report, each run on its own (config further_studies)
-FURTHER = config.get("further_studies", {})
+def get_further_folder(folder):
+    """A further study's results folder: config further_results (the
+    committed studies', or a reproduction's own reruns) joined with its
+    folder as config gives it (an absolute one stays as it is)."""
+    return os.path.join(config["further_results"], folder)
+
+
+# further studies shown in the report, each run on its own (config
+# further_studies), and the geometry study and brick formats of
+# geometry_formats, their folders under further_results
+FURTHER = {n: dict(s, results=get_further_folder(s["results"])) for n, s in config.get("further_studies", {}).items()}
+if config.get("geometry_formats"):
+    config["geometry_formats"]["equations"] = get_further_folder(config["geometry_formats"]["equations"])
+    for _format in config["geometry_formats"]["formats"].values():
+        if _format.get("results"):
+            _format["results"] = get_further_folder(_format["results"])
 
 
 # a further study's figures: file -> (its caption's name, label); its
@@ -394,3 +410,29 @@ def get_accuracy_outputs():
     return [f"{R}/accuracy/{name}" for name in (
         "references.csv", "runs.csv", "convergence.csv", "choice.csv", "pareto.png", "scaling.csv", "scaling.png",
         "subsample.csv", "subsample.png")] + get_pages("accuracy")
+
+
+# --- the Sobol check (workflow/rules/sobol_check.smk) ---------------------------
+def get_sobol_check():
+    """The check's settings with what follows from the study: its level's
+    runs folder, the variant its runs are of (the study's per-wallette
+    one), the number of runs; None where the config has no check."""
+    c = config.get("sobol_check")
+    if not c:
+        return None
+    st = plan.study(config)         # the level and the variant checked at planning (pipeline/check.py)
+    dirs = dict(zip(plan.study_levels(config), plan.study_level_dirs(config)))
+    return dict(c, level_dir=dirs[float(c["level"])], variant=st.regression_variant,
+                runs=c["base"] * (len(st.variables) + 2))
+
+
+SOBOL = get_sobol_check()
+SOBOL_BATCHES = plan.batches(list(range(SOBOL["runs"])), config) if SOBOL else []
+
+
+def get_sobol_check_runs(kind):
+    return [f"{R}/sobol_check/runs/s{s}/{kind}.json" for s in range(SOBOL["runs"])] if SOBOL else []
+
+
+def get_sobol_check_outputs():
+    return [f"{R}/sobol_check/check.csv", *get_pages("sobol_check")] if SOBOL else []

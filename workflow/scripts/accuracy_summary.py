@@ -38,6 +38,8 @@ choice.to_csv(sm.output.choice, index=False, float_format="%.6g")
 print(conv.to_string())
 print(choice.to_string())
 print("defaults (config numerics):", sm.params.numerics)
-captions.write_caption(sm.input.templates[0], sm.output.captions[0], **captions.accuracy_convergence(conv))
+# the paths' tolerance (config accuracy.path_tolerance): a path has converged when its two finest levels lie within it
+captions.write_caption(sm.input.templates[0], sm.output.captions[0], tolerance=f"{100 * sm.params.path_tolerance:g} %",
+                       **captions.accuracy_convergence(conv))
 captions.write_caption(sm.input.templates[1], sm.output.captions[1], **captions.accuracy_choice(
     table, conv, choice, sm.params.baselines, tolerance, sm.params.numerics))

@@ -1,4 +1,4 @@
-"""Sobol indices of the study's strength on a surrogate of its runs."""
+"""Sobol indices of the study's strength on a Gaussian process of its runs."""
 import sys
 
 sm = snakemake  # noqa: F821

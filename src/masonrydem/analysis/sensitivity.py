@@ -1,86 +1,158 @@
 """Sobol sensitivity indices of the study's strength, per variant, level and
-failure mode, on a surrogate fitted to the study's own runs.
+failure mode, from a Gaussian process fitted to the study's own runs; the
+intervals hold what the runs leave open about the strength, the process's
+misfit included.
 
 Method:
-1. **Surrogate.** A linear and a quadratic (ridge) regression of the
-   strength on the random inputs, each scored by 5-fold cross-validated
-   R^2 on the group's runs; the better one is kept and its out-of-sample
-   R^2 reported.  Below MIN_R2 the inputs do not explain the strength (a
+1. **Inputs.** Sobol indices need independent inputs.  The inputs are
+   written as functions of independent standard normal scores w through a
+   Gaussian copula: z = L w, with L the Cholesky factor of the correlation
+   matrix in the study file's order, each input its marginal's quantile of
+   Phi(z) (input_map; its ``scores`` the inverse, the runs' scores).  So an
+   input earlier in the file (f_tu) carries, in its index, the part of a
+   later correlated input (E_b) that it determines (its *full* index in the
+   sense of Mara and Tarantola, 2012), and the later one's index is its
+   *independent* part.  The target correlation is taken for the normal
+   scores; for the study's lognormal pair that gives a Pearson correlation
+   of the values of 0.49 for 0.5.
+2. **Gaussian process.** A Gaussian process regression of the strength on
+   the runs' scores (scikit-learn): a Matern 5/2 kernel with a length scale
+   per input, plus white noise, its parameters by maximum likelihood.  Its
+   leave-one-out R^2 (cv_r2) and the share of the strength's variance it
+   gives to noise (noise_share) are reported; the indices are shares of
+   the rest.  Below MIN_R2 the inputs do not explain the strength (a
    variant that draws per unit or joint, whose strength follows the field
-   of unit and joint values, not the wallette's recorded field means; or
-   too few runs for the surrogate), and no index is given.
-2. **Indices.** First-order S1 and total ST Sobol indices of the surrogate
-   over the study's input distribution, by SALib's Sobol sequence
-   (Saltelli's scheme, N_BASE base points) and its estimators (Saltelli
-   2010 for S1, Jansen for ST).
-3. **Correlated inputs.** Sobol indices need independent inputs.  The
-   inputs are written as functions of independent uniforms through a
-   Gaussian copula: normal scores z = L w, with L the Cholesky factor of
-   the correlation matrix in the study file's order, each input its
-   marginal's quantile of Phi(z).  So an input earlier in the file (f_tu)
-   carries, in its index, the part of a later correlated input (E_b) that
-   it determines (its *full* index in the sense of Mara and Tarantola,
-   2012), and the later one's index is its *independent* part.  The
-   target correlation is taken for the normal scores; for the study's
-   lognormal pair that gives a Pearson correlation of the values of 0.49
-   for 0.5.
-4. **Intervals.** The group's runs resampled BOOTSTRAP times, the
-   surrogate refitted to each resample and the indices computed again on
-   the same Sobol points; the 2.5 and 97.5 % percentiles.  They hold the
-   uncertainty of the fit to the runs; the Sobol points' own error is
-   below 0.01 at N_BASE (tests/test_sensitivity.py).
+   of unit and joint values, not the recorded field means), and no index
+   is given.
+3. **Indices.** First-order S1 and total ST of the process's posterior mean
+   over the study's input distribution, by SALib's Sobol sequence in the
+   scores (Saltelli's scheme, N_BASE base points) and its estimators
+   (Saltelli 2010 for S1, Jansen for ST).
+4. **Intervals.** DRAWS functions drawn from the posterior (a prior draw by
+   FEATURES random Fourier features, conditioned on the runs: Matheron's
+   rule) and the indices of each on the same points.  The draws differ
+   where the runs leave the strength open, between runs and across a kink
+   such as the switch from joint to brick failure, so their spread holds
+   the surrogate's misfit, which a bootstrap of a fitted polynomial does
+   not.  A draw is rougher than the posterior mean, and rougher than a
+   smooth strength may be: its indices lie to one side of the mean's (a
+   total index above, from interactions the roughness adds), and the
+   mean's may lie as far to the other side of the truth.  So the interval
+   joins the draws' 2.5 and 97.5 % points with their reflection about the
+   mean's index (the percentile and the basic interval together), within
+   0 to 1.  On the lower of two linear strengths over the study's inputs
+   from 100 runs and on the Ishigami function from 200 runs, it held the
+   indices in 36 to 40 of 40 seeds per input (docs/study.md, 12a).
+5. **Inputs without an effect.** Per input, a likelihood-ratio test of the
+   process without the input against the process with it (a length scale
+   at its bound: the 50:50 mixture of chi2 with 0 and 1 degrees of freedom,
+   at 1 - CONFIDENCE).  Where it cannot tell the input's effect from none,
+   its intervals start at 0 (the test inverted): every posterior draw gives
+   an input a total index above 0, also one without any effect.
 
 The indices of one failure mode are those of that mode's strength law, the
-surrogate fitted to its runs and evaluated over the whole input range,
+process fitted to its runs and evaluated over the whole input range,
 including where the other mode governs.
 """
 import numpy as np
 import pandas as pd
 from scipy import stats
 
+from ..study.copula import CLIP, CopulaMap
+
 N_BASE = 2 ** 12
-BOOTSTRAP = 200
+DRAWS = 200
+FEATURES = 1000
+CONFIDENCE = 0.95
 MIN_R2 = 0.5
 MIN_RUNS = 10
 
 
 def input_map(variables, correlations, scale):
     """The inputs as a function of independent uniforms (module docstring,
-    3): ``to_inputs(u)`` for u (n x d) in [0, 1), columns in the order of
+    1): ``to_inputs(u)`` for u (n x d) in [0, 1), columns in the order of
     ``variables`` (sampling.Variable), each multiplied by scale[name] (the
-    factor to the runs table's unit)."""
-    names = [v.name for v in variables]
-    r = np.eye(len(names))
-    for (a, b), rho in correlations.items():
-        i, j = names.index(a), names.index(b)
-        r[i, j] = r[j, i] = rho
-    chol = np.linalg.cholesky(r)
-    marginals = [v.frozen() for v in variables]
-
-    def to_inputs(u):
-        z = stats.norm.ppf(np.clip(u, 1e-12, 1 - 1e-12)) @ chol.T
-        return np.column_stack([scale[n] * m.ppf(stats.norm.cdf(z[:, k]))
-                                for k, (n, m) in enumerate(zip(names, marginals))])
-    return to_inputs
+    factor to the runs table's unit); ``to_inputs.scores(x)`` the
+    independent standard normal scores of the inputs x (its inverse, after
+    Phi^-1)."""
+    return CopulaMap(variables, correlations, scale)
 
 
-def surrogates():
-    """The candidate surrogates, unfitted (scikit-learn pipelines)."""
-    from sklearn.linear_model import LinearRegression, RidgeCV
-    from sklearn.pipeline import make_pipeline
-    from sklearn.preprocessing import PolynomialFeatures, StandardScaler
-    return {"linear": make_pipeline(StandardScaler(), LinearRegression()),
-            "quadratic": make_pipeline(StandardScaler(), PolynomialFeatures(2, include_bias=False), StandardScaler(),
-                                       RidgeCV(alphas=np.logspace(-3, 3, 13)))}
+def _kernel(amplitude, length_scales, noise):
+    """Matern 5/2 with a length scale per input, plus white noise (module
+    docstring, 2), from the given parameters (the bounds fixed)."""
+    from sklearn.gaussian_process.kernels import ConstantKernel, Matern, WhiteKernel
+    return (ConstantKernel(amplitude, (1e-3, 1e3)) * Matern(length_scales, (1e-2, 1e3), nu=2.5)
+            + WhiteKernel(noise, (1e-8, 1.0)))
 
 
-def choose_surrogate(x, y, seed=0):
-    """(name, cross-validated R^2) of the better surrogate for x -> y."""
-    from sklearn.model_selection import KFold, cross_val_score
-    folds = KFold(5, shuffle=True, random_state=seed)
-    scores = {k: float(cross_val_score(m, x, y, cv=folds, scoring="r2").mean()) for k, m in surrogates().items()}
-    best = max(scores, key=scores.get)
-    return best, scores[best]
+def fit_process(w, y, seed=0, kernel=None, restarts=2):
+    """The Gaussian process of y on the scores w (scikit-learn, fitted;
+    ``kernel`` the starting one).  A length scale or the noise at its bound
+    (an input without effect, runs without noise) is an answer, not a
+    failure: scikit-learn's warning of it is kept quiet."""
+    import warnings
+    from sklearn.exceptions import ConvergenceWarning
+    from sklearn.gaussian_process import GaussianProcessRegressor
+    gp = GaussianProcessRegressor(kernel or _kernel(1.0, np.ones(w.shape[1]), 1e-2), normalize_y=True,
+                                  n_restarts_optimizer=restarts, random_state=seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        return gp.fit(w, y)
+
+
+def fit_quality(gp, y):
+    """(leave-one-out R^2, noise share of the variance) of a fitted process,
+    the LOO residuals in closed form: alpha_i / (K^-1)_ii."""
+    k_inv = np.linalg.inv(gp.kernel_(gp.X_train_))
+    loo = (k_inv @ gp.y_train_) / np.diag(k_inv) * gp._y_train_std
+    noise = gp.kernel_.k2.noise_level * gp._y_train_std ** 2
+    return 1.0 - float(np.mean(loo ** 2) / np.var(y)), float(noise / np.var(y))
+
+
+def posterior_draws(gp, w_at, draws=DRAWS, seed=0, features=FEATURES, chunk=4096):
+    """The process's posterior mean and ``draws`` functions from its
+    posterior at the scores w_at (rows): len(w_at) x (1 + draws), column 0
+    the mean; the latent strength, without the noise.  A draw is a prior
+    draw by random Fourier features (the Matern kernel's spectral density:
+    a Student t with 2 nu degrees of freedom over the length scales)
+    conditioned on the runs by Matheron's rule; the mean is the same rule
+    with the prior draw and the noise 0."""
+    k = gp.kernel_
+    amp, ls, nu, noise = k.k1.k1.constant_value, k.k1.k2.length_scale, k.k1.k2.nu, k.k2.noise_level
+    rng = np.random.default_rng(seed)
+    freq = (rng.standard_normal((features, w_at.shape[1])) / ls
+            * np.sqrt(2 * nu / rng.chisquare(2 * nu, (features, 1))))
+    phase = rng.uniform(0, 2 * np.pi, features)
+    theta = np.column_stack([np.zeros(features), rng.standard_normal((features, draws))])
+
+    def prior(z):
+        return np.sqrt(2 * amp / features) * np.cos(z @ freq.T + phase) @ theta
+
+    x = gp.X_train_
+    eps = np.sqrt(noise) * np.column_stack([np.zeros(len(x)), rng.standard_normal((len(x), draws))])
+    chol = np.linalg.cholesky(k(x))                       # the kernel with its noise
+    v = np.linalg.solve(chol.T, np.linalg.solve(chol, gp.y_train_[:, None] - prior(x) - eps))
+    out = np.empty((len(w_at), 1 + draws))
+    for s in range(0, len(w_at), chunk):
+        z = w_at[s:s + chunk]
+        out[s:s + chunk] = prior(z) + k.k1(z, x) @ v
+    return out * gp._y_train_std + gp._y_train_mean
+
+
+def no_effect(gp, w, y):
+    """Per input, True where the likelihood-ratio test (module docstring,
+    5) cannot tell its effect from none: the process refitted without it,
+    from the fitted parameters."""
+    crit = stats.chi2.ppf(1 - 2 * (1 - CONFIDENCE), 1)
+    k, out = gp.kernel_, []
+    if w.shape[1] == 1:
+        return np.array([False])
+    for j in range(w.shape[1]):
+        kernel = _kernel(k.k1.k1.constant_value, np.delete(k.k1.k2.length_scale, j), k.k2.noise_level)
+        red = fit_process(np.delete(w, j, axis=1), y, kernel=kernel, restarts=0)
+        out.append(2 * (gp.log_marginal_likelihood_value_ - red.log_marginal_likelihood_value_) < crit)
+    return np.array(out)
 
 
 def sobol_points(d, n=N_BASE, seed=0):
@@ -91,44 +163,68 @@ def sobol_points(d, n=N_BASE, seed=0):
 
 
 def indices(y, d, n=N_BASE):
-    """(S1, ST), arrays of d, from the outputs y at sobol_points(d, n)."""
-    from SALib.analyze.sobol import first_order, separate_output_values, total_order
-    a, b, ab, _ = separate_output_values(np.asarray(y, float), d, n, False)
-    return (np.array([first_order(a, ab[:, j], b) for j in range(d)]),
-            np.array([total_order(a, ab[:, j], b) for j in range(d)]))
+    """(S1, ST), arrays of d (d x k for k columns of outputs), from the
+    outputs y at sobol_points(d, n) (SALib's order: per base point A, the
+    d mixed points, B), each column centred first, as SALib's analysis
+    does: the first-order estimator mean(f_B (f_ABi - f_A)) is not
+    invariant to a shift of the output."""
+    from SALib.analyze.sobol import first_order, total_order
+    y = np.asarray(y, float).reshape(n * (d + 2), -1)
+    y = (y - y.mean(axis=0)).reshape(n, d + 2, -1)
+    a, b = y[:, 0], y[:, -1]
+    s1 = np.array([first_order(a, y[:, 1 + j], b) for j in range(d)])
+    st = np.array([total_order(a, y[:, 1 + j], b) for j in range(d)])
+    return (s1[:, 0], st[:, 0]) if y.shape[2] == 1 else (s1, st)
 
 
-def group_indices(x, y, points, to_inputs, n=N_BASE, bootstrap=BOOTSTRAP, seed=0):
+def interval(estimate, draws, no_effect=False):
+    """The interval of an index: the 2.5 and 97.5 % points of its draws
+    (the last axis), joined with their reflection about the posterior
+    mean's index ``estimate``, within 0 to 1 (where every index lies);
+    from 0 where ``no_effect`` (module docstring, 4 and 5)."""
+    tail = 50 * (1 - CONFIDENCE)
+    lo, hi = np.percentile(draws, [tail, 100 - tail], axis=-1)
+    lo, hi = np.minimum(lo, 2 * estimate - hi), np.maximum(hi, 2 * estimate - lo)
+    return np.where(no_effect, 0.0, np.clip(lo, 0.0, 1.0)), np.clip(hi, 0.0, 1.0)
+
+
+def group_indices(x, y, points, to_inputs, n=N_BASE, draws=DRAWS, seed=0):
     """The indices of one group's runs (x: n_runs x d inputs, y: strength):
-    dict of surrogate, cv_r2 and, where the surrogate explains the
-    strength, S1, ST (arrays) and their intervals S1_lo ... ST_hi."""
-    from sklearn.base import clone
-    name, r2 = choose_surrogate(x, y, seed)
-    out = dict(surrogate=name, cv_r2=r2)
+    dict of surrogate, cv_r2, noise_share and, where the process explains
+    the strength, S1, ST (arrays), their intervals S1_lo ... ST_hi and
+    no_effect (module docstring).  On one thread of linear algebra (a
+    process per job, as a rule's threads say: two threads beside another
+    busy process took six times as long)."""
+    from threadpoolctl import threadpool_limits
+    with threadpool_limits(1):
+        return _group_indices(x, y, points, to_inputs, n, draws, seed)
+
+
+def _group_indices(x, y, points, to_inputs, n, draws, seed):
+    """group_indices' work."""
+    w = to_inputs.scores(x)
+    gp = fit_process(w, y, seed)
+    r2, noise = fit_quality(gp, y)
+    out = dict(surrogate="gaussian process", cv_r2=r2, noise_share=noise)
     if r2 < MIN_R2:
         return out
-    model, at = surrogates()[name], to_inputs(points)
-    d = x.shape[1]
-    out["S1"], out["ST"] = indices(model.fit(x, y).predict(at), d, n)
-    rng = np.random.default_rng(seed)
-    draws = []
-    for _ in range(bootstrap):
-        pick = rng.integers(0, len(y), len(y))
-        draws.append(indices(clone(model).fit(x[pick], y[pick]).predict(at), d, n))
-    draws = np.asarray(draws)                    # bootstrap x (S1, ST) x d
-    lo, hi = np.percentile(draws, [2.5, 97.5], axis=0)
-    out.update(S1_lo=lo[0], S1_hi=hi[0], ST_lo=lo[1], ST_hi=hi[1])
+    d, at = x.shape[1], stats.norm.ppf(np.clip(points, CLIP, 1 - CLIP))
+    s1, st = indices(posterior_draws(gp, at, draws, seed), d, n)        # column 0: the mean
+    out["S1"], out["ST"] = s1[:, 0], st[:, 0]
+    null = no_effect(gp, w, y)
+    lo, hi = interval(np.array([s1[:, 0], st[:, 0]]), np.array([s1[:, 1:], st[:, 1:]]), null)
+    out.update(S1_lo=lo[0], S1_hi=hi[0], ST_lo=lo[1], ST_hi=hi[1], no_effect=null)
     return out
 
 
-def sensitivity_table(runs, level, columns, to_inputs, n=N_BASE, bootstrap=BOOTSTRAP, seed=0, jobs=1):
+def sensitivity_table(runs, level, columns, to_inputs, n=N_BASE, draws=DRAWS, seed=0, jobs=1):
     """One row per variant, level, failure mode ('all' for all runs) and
-    input: runs, surrogate, cv_r2, S1, ST and their intervals (empty where
-    the group has fewer than MIN_RUNS runs or its surrogate's R^2 is below
-    MIN_R2).  ``columns``: the inputs' columns in the runs table, in the
-    order of ``to_inputs``' output.  The groups go on ``jobs`` processes
-    (each group draws from its own seed: the same values, to round-off,
-    whichever process fits it; map_blocks)."""
+    input: runs, surrogate, cv_r2, noise_share, S1, ST, their intervals and
+    no_effect (empty where the group has fewer than MIN_RUNS runs or the
+    process's R^2 is below MIN_R2).  ``columns``: the inputs' columns in the
+    runs table, in the order of ``to_inputs``' output (input_map).  The
+    groups go on ``jobs`` processes (each group draws from its own seed:
+    the same values, to round-off, whichever process fits it; map_blocks)."""
     from .equations import map_blocks
     points, groups = sobol_points(len(columns), n, seed), []
     for (variant, lv), g in runs[runs.ok].groupby(["variant", level.column]):
@@ -138,24 +234,24 @@ def sensitivity_table(runs, level, columns, to_inputs, n=N_BASE, bootstrap=BOOTS
                            h[columns].to_numpy(float), h.strength_mpa.to_numpy(float)))
     fitted = [(x, y) for _, x, y in groups if len(y) >= MIN_RUNS]
     results = iter(map_blocks(_group_block, [[k] for k in range(len(fitted))], jobs, fitted, points, to_inputs, n,
-                              bootstrap, seed))
-    rows = []
+                              draws, seed))
+    rows, stat = [], ("S1", "S1_lo", "S1_hi", "ST", "ST_lo", "ST_hi", "no_effect")
     for base, x, y in groups:
         if len(y) < MIN_RUNS:
             rows.append(base)
             continue
         res = next(results)
         for k, col in enumerate(columns):
-            rows.append({**base, "input": col, "surrogate": res["surrogate"], "cv_r2": res["cv_r2"],
-                         **{s: res[s][k] for s in ("S1", "S1_lo", "S1_hi", "ST", "ST_lo", "ST_hi") if s in res}})
+            rows.append({**base, "input": col, **{s: res[s] for s in ("surrogate", "cv_r2", "noise_share")},
+                         **{s: res[s][k] for s in stat if s in res}})
     return pd.DataFrame(rows, columns=["variant", level.column, "mode", "runs", "input", "surrogate", "cv_r2",
-                                       "S1", "S1_lo", "S1_hi", "ST", "ST_lo", "ST_hi"])
+                                       "noise_share", *stat])
 
 
-def _group_block(block, fitted, points, to_inputs, n, bootstrap, seed):
+def _group_block(block, fitted, points, to_inputs, n, draws, seed):
     """group_indices of the one group in ``block`` (map_blocks' unit)."""
     x, y = fitted[block[0]]
-    return group_indices(x, y, points, to_inputs, n, bootstrap, seed)
+    return group_indices(x, y, points, to_inputs, n, draws, seed)
 
 
 def with_pearson(table, corr, level):
@@ -184,7 +280,7 @@ def figure(table, path, level):
         for k, (name, h) in enumerate(g.groupby("input", sort=False)):
             color = f"C{k}"
             x = h[level.column]
-            # a percentile interval need not hold its estimate (an index near 0): bars from the estimate, clipped
+            # an interval of the draws need not hold the posterior mean's index: bars from the estimate, clipped
             bars = np.clip([h.ST - h.ST_lo, h.ST_hi - h.ST], 0, None)
             sym = _symbol(name)
             ax.errorbar(x, h.ST, yerr=bars, fmt="o-", color=color, capsize=3, label=f"{sym}: total index $S_T$")
@@ -212,9 +308,10 @@ def _symbol(name):
 
 def caption_values(table, level, variables, correlations):
     """The sensitivity caption's numbers: per variant and level, the
-    surrogate's out-of-sample R^2 and, where there are indices, the inputs
-    by total index (all modes together); the correlated pairs, the first
-    in ``variables``' order first."""
+    process's out-of-sample R^2 and noise share and, where there are
+    indices, the inputs by total index (all modes together), an input
+    whose effect the test cannot tell from none marked; the correlated
+    pairs, the first in ``variables``' order first."""
     order = [v.name for v in variables]
     pairs = "; ".join(f"{' and '.join(sorted(p, key=order.index))}, rho {rho:g}" for p, rho in correlations.items())
     lines = []
@@ -222,15 +319,20 @@ def caption_values(table, level, variables, correlations):
         if g.runs.iloc[0] < MIN_RUNS:
             lines.append(f"{variant}, {level.text(lv)}: {g.runs.iloc[0]} runs, too few for a surrogate")
             continue
-        head = (f"{variant}, {level.text(lv)}: {g.surrogate.iloc[0]} surrogate, "
-                f"cross-validated R^2 {g.cv_r2.iloc[0]:.2f}")
+        head = (f"{variant}, {level.text(lv)}: leave-one-out R^2 {g.cv_r2.iloc[0]:.2f}, "
+                f"noise {100 * g.noise_share.iloc[0]:.1f} % of the variance")
         if g.ST.isna().all():
             lines.append(f"{head}; no indices: the inputs the runs record (for a variant that draws per unit or "
                          f"joint, the means of its fields) do not explain the strength")
             continue
         ranked = g.sort_values("ST", ascending=False)
         lines.append(head + "; " + ", ".join(
-            f"{r.input} **ST {r.ST:.2f}** ({r.ST_lo:.2f} to {r.ST_hi:.2f}), S1 {r.S1:.2f}, r^2 {r.pearson_sq:.2f}"
-            for r in ranked.itertuples()))
-    return dict(lines="\n".join(f"- {x}" for x in lines), n_base=N_BASE, bootstrap=BOOTSTRAP, min_r2=MIN_R2,
-                pairs=pairs or "none in this study")
+            f"{r.input} **ST {r.ST:.2f}** ({r.ST_lo:.2f} to {r.ST_hi:.2f}{_none(r.no_effect)}), S1 {r.S1:.2f}, "
+            f"r^2 {r.pearson_sq:.2f}" for r in ranked.itertuples()))
+    return dict(lines="\n".join(f"- {x}" for x in lines), n_base=N_BASE, draws=DRAWS, min_r2=MIN_R2,
+                confidence=round(100 * CONFIDENCE), pairs=pairs or "none in this study")
+
+
+def _none(no_effect):
+    """The caption's mark of an input whose effect the test cannot tell from none."""
+    return "; effect not told from none" if str(no_effect) == "True" else ""     # numpy's, Python's or read back

@@ -204,4 +204,22 @@ def check_config(config):
             build_scene(scenes[scene], overrides)
         except InputError as e:
             raise InputError(where, f"the scene {scene} with the overrides {list(overrides)} is refused: {e}") from None
+    check_sobol(config)
     return config
+
+
+def check_sobol(config):
+    """The Sobol check (config sobol_check) at a level of the study, on a
+    variant that draws per wallette."""
+    check = config.get("sobol_check")
+    if not check:
+        return
+    from . import plan
+    levels = plan.study_levels(config)
+    if float(check["level"]) not in levels:
+        raise InputError("sobol_check.level", f"{check['level']} is not a level of the study "
+                                              f"({', '.join(f'{x:g}' for x in levels)}): give one of them, or "
+                                              "set sobol_check: null")
+    if plan.study(config).regression_variant is None:
+        raise InputError("sobol_check", "the study has no variant that draws per wallette, whose indices the "
+                                        "check is for: set sobol_check: null")
