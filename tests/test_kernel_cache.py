@@ -38,3 +38,46 @@ def test_two_processes_saving_two_specialisations_keep_both(tmp_path):
     cache = caching.IndexDataCacheFile(str(tmp_path), "kernel", ("stamp", 1))
     assert cache.load("a") == "code of a" and cache.load("b") == "code of b"
     assert len(list(tmp_path.glob("kernel.*.nbc"))) == 2
+
+
+def test_every_kernel_is_cached_under_the_stamp_of_the_whole_kernels_package():
+    """numba keys a cached kernel on its own file; dem/kernels/__init__.py
+    puts its package's locators first in numba's private list of cache
+    locators, so that every kernel is keyed on all of the package's
+    modules.  numba chooses a kernel's locator as this expects: the
+    package's, whose stamp is the hash of the package's files computed
+    here again; a function outside the package keeps numba's own.  Fails
+    when another numba lays its cache out otherwise (pyproject.toml pins
+    the range this was read from)."""
+    import hashlib
+    from pathlib import Path
+
+    import numba
+    from masonrydem.dem import kernels
+    from masonrydem.dem.kernels import advance
+
+    folder = Path(advance.__file__).parent
+    stamp = hashlib.sha256(b"".join(p.name.encode() + p.read_bytes() for p in sorted(folder.glob("*.py")))).hexdigest()
+    impl = caching.CompileResultCacheImpl(advance._advance_nodes.py_func)
+    assert type(impl._locator).__name__.startswith("Package"), (numba.__version__, type(impl._locator))
+    assert impl._locator.get_source_stamp() == stamp
+    outside = caching.CompileResultCacheImpl(_save)
+    assert not type(outside._locator).__name__.startswith("Package")
+    assert kernels.config.SLP_VECTORIZE == 1
+
+
+def test_numba_is_in_the_range_whose_private_interface_the_package_reads():
+    """The installed numba in pyproject.toml's range, and numba's private
+    names the package uses present: a numba outside the range fails here
+    loudly, before a stale kernel or an unlocked cache could."""
+    import re
+    from pathlib import Path
+
+    import numba
+    spec = re.search(r'"numba>=([\d.]+),<([\d.]+)"', (Path(__file__).parents[1] / "pyproject.toml").read_text())
+    low, high = (tuple(int(x) for x in v.split(".")) for v in spec.groups())
+    have = tuple(int(x) for x in numba.__version__.split(".")[:2])
+    assert low[:2] <= have < high[:2], f"numba {numba.__version__} is outside {spec.group(0)}"
+    for name in ("CacheImpl", "CompileResultCacheImpl", "UserProvidedCacheLocator", "InTreeCacheLocator", "IndexDataCacheFile"):
+        assert hasattr(caching, name), f"numba {numba.__version__} has no numba.core.caching.{name}"
+    assert isinstance(caching.CacheImpl._locator_classes, list)

@@ -8,7 +8,7 @@ a JSON file under .snakemake/metadata whose name is the output's path in
 URL-safe base64, cut into names one shorter than the file system allows
 (255 on Linux, so 254), all but the last prefixed with '@' as folders.
 pyproject.toml pins Snakemake to the range this was read from, and
-tests/test_snakemake_state.py runs Snakemake and fails when its records
+tests/test_architecture.py runs Snakemake and fails when its records
 are not where ``record_path`` says.
 """
 import datetime

@@ -1,9 +1,9 @@
-"""Scenes: a specimen described in YAML (inputs.py reads it), validated
-once into a typed, frozen ``Scene`` (specimen.py builds it).
+"""Scenes: a specimen described in YAML (files.read_scene reads it),
+validated once into a typed, frozen ``Scene`` (build.py builds the model
+from it).
 
-A scene (schema: scene_schema.yaml, defaults = the Willis wallette of
-docs/study.md) declares geometry, physics, materials, loading, numerics and
-outputs.  ``build_scene`` reads it, applies ``--set`` overrides and a
+A scene (schema: scene_schema.yaml, with each setting's default) declares
+geometry, physics, materials, loading, numerics and outputs.  ``build_scene`` reads it, applies ``--set`` overrides and a
 study's settings, and checks it;
 every error names the field (a dotted path, as the scene writes it) and the
 reason.  Refused before anything is allocated: a NaN or an infinity, a
