@@ -216,6 +216,8 @@ FAULTS = [
     ("the design band without the residual", "analysis/validation.py",
      "band = np.sqrt(prop_sd ** 2 + resid_sd ** 2)", "band = prop_sd"),
     # the lab fit, the lab sheet and the design value
+    ("a study file's family the best of all three", "analysis/labfit.py",
+     'dist = distribution or choose(fits, STUDY_FAMILIES)["best"]', 'dist = distribution or choose(fits)["best"]'),
     ("the tolerance bound's s with n", "analysis/labfit.py",
      "tolerance_factor(y.size, content, conf) * y.std(ddof=1)", "tolerance_factor(y.size, content, conf) * y.std(ddof=0)"),
     ("the tolerance factor's non-centrality with n - 1", "analysis/labfit.py",

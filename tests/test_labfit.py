@@ -397,3 +397,45 @@ def test_fit_refuses_before_any_fit(tmp_path, capsys):
     code, _, err = _fit(capsys, str(sheet(tmp_path, "f_tj [MPa]\n0.3\n0.5\n0.4\n")), "--name", "b",
                         "--setting", "materials.joints.ft")
     assert code == 2 and "--measured" in err                                 # a results column says what it measured
+
+
+def test_fit_of_a_sheet_alone_prints_its_statistics_and_no_block(tmp_path, capsys):
+    """`masonrydem fit FILE` alone: the sheet's statistics, fits and
+    characteristic values as comments, computed again here from the values
+    (mean, cov, EN 1990's k_n for n = 7 by its closed form and the
+    lognormal characteristic exp(m - k_n s) of the logs), and no study
+    file's block; a results column needs no
+    --measured then.  --name without --setting is refused, naming the
+    missing one."""
+    x = np.array([0.31, 0.42, 0.28, 0.37, 0.45, 0.33, 0.39])
+    path = sheet(tmp_path, "f_tj [MPa]\n" + "\n".join(f"{v}" for v in x) + "\n")
+    code, out, err = _fit(capsys, str(path), "--distribution", "lognormal", "--resamples", "99")
+    assert code == 0, err
+    assert "variables:" not in out and all(line.startswith("# ") for line in out.splitlines())
+    assert "7 results" in out and f"mean {x.mean():.4g} MPa" in out and f"cov {x.std(ddof=1) / x.mean():.4f}" in out
+    k = stats.t.ppf(0.95, 6) * math.sqrt(1 + 1 / 7)                 # EN 1990 D7.2, V_X unknown: t_{n-1} sqrt(1 + 1/n)
+    logs = np.log(x)
+    assert f"k_n {k:.3f}" in out
+    assert f"{math.exp(logs.mean() - k * logs.std(ddof=1)):.4g} MPa" in out
+    assert "used: lognormal, as --distribution gives it" in out
+    code, out, err = _fit(capsys, str(path), "--name", "bond")
+    assert code == 2 and out == "" and "--setting" in err and "needs both --name and --setting" in err
+
+
+def test_fit_says_why_it_uses_a_family_that_is_not_the_best_of_all(tmp_path, capsys):
+    """40 values drawn from a Weibull of shape 10, skewed to the left as
+    neither a normal nor a lognormal is: the AICc ranks weibull first; a study file draws only lognormal or normal,
+    so the block's family is the better of those two by AICc, and the
+    printed choice says so beside the ranking of all three."""
+    x = np.round(stats.weibull_min(10.0, scale=0.4).rvs(40, random_state=np.random.default_rng(3)), 4)
+    path = sheet(tmp_path, "f_tj [MPa]\n" + "\n".join(f"{v}" for v in x) + "\n")
+    fits = F.fit_distributions(x, 0, resamples=99)
+    assert min(fits, key=lambda f: fits[f]["aicc"]) == "weibull"
+    better = min(("lognormal", "normal"), key=lambda f: fits[f]["aicc"])
+    code, out, err = _fit(capsys, str(path), "--name", "bond", "--setting", "materials.joints.ft", "--measured",
+                          "as_is", "--resamples", "99")
+    assert code == 0, err
+    assert yaml.safe_load(out)["variables"]["bond"]["distribution"] == better
+    assert "weibull has the smallest AICc" in out
+    assert (f"used: {better}, the smaller AICc of lognormal and normal, the families a study file draws from"
+            in out)

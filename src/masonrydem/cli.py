@@ -276,14 +276,19 @@ def _predict(args):
 
 
 def _fit(args):
-    """``fit``: a lab sheet -> a study file's variable block (YAML on
-    stdout, what the fit found as comments above it)."""
+    """``fit``: a lab sheet's statistics, fits and characteristic values
+    (as YAML comments), and with --name and --setting the study file's
+    variable block they give (YAML on stdout)."""
     import yaml
 
     from .analysis import labfit, labsheet
     from .specimen.quantities import to_si
     from .specimen.scene import setting_unit
-    unit = setting_unit(args.setting)
+    if bool(args.name) != bool(args.setting):
+        given, missing = ("--name", "--setting") if args.name else ("--setting", "--name")
+        raise InputError(missing, f"the study file's block needs both --name and --setting; {given} alone is "
+                                  f"given (without either, fit prints the sheet's statistics alone)")
+    unit = setting_unit(args.setting) if args.setting else "Pa"
     if unit is None:
         raise InputError("--setting", f"{args.setting!r} is not a numeric setting of a scene (scene_schema.yaml)")
     if args.resamples < 99:
@@ -294,21 +299,28 @@ def _fit(args):
     if args.measured and lab["measured"] and args.measured != lab["measured"]:
         raise InputError("--measured", f"{args.measured}: a {lab['form'].replace('_', ' ')} sheet measures "
                                        f"{lab['measured']}")
-    if measured is None:
+    if args.name and measured is None:
         raise InputError("--measured", f"say what {lab['quantity']!r} measured: {', '.join(labsheet.CONVERSIONS)}")
+    if not args.name:
+        numbers, fits, dist = labfit.measured(lab, unit, args.seed, args.distribution, args.prior_cov, args.resamples)
+        print("\n".join(f"# {line}" for line in labfit.summary(lab, numbers, fits, dist)))
+        return 0
     factor, source = labsheet.conversion(measured, depth or lab["depth"], args.factor, args.source)
     entry, fits = labfit.block(lab, args.name, args.setting, unit, factor, source, args.seed, args.per,
                                args.distribution, args.prior_cov, args.resamples)
-    print("\n".join(f"# {line}" for line in labfit.summary(lab, args.name, entry[args.name], fits)))
+    e = entry[args.name]
+    lines = labfit.summary(lab, e["provenance"]["lab"], fits, e["distribution"], (args.name, factor, source))
+    print("\n".join(f"# {line}" for line in lines))
     print(yaml.safe_dump({"variables": entry}, sort_keys=False, width=100, allow_unicode=True), end="")
     return 0
 
 
 def _fit_parser(sub):
-    fit = sub.add_parser("fit", help="a lab's results (CSV) -> a study file's variable block with its provenance")
+    fit = sub.add_parser("fit", help="a lab's results (CSV): statistics, fits and characteristic values; with "
+                                     "--name and --setting, a study file's variable block with its provenance")
     fit.add_argument("lab", help="the lab sheet: one column 'f_tj [MPa]', or a bond-wrench or unit flexural sheet")
-    fit.add_argument("--name", required=True, help="the variable's name in the study file")
-    fit.add_argument("--setting", required=True, help="the scene setting it drives, e.g. materials.joints.ft")
+    fit.add_argument("--name", help="the variable's name in the study file (with --setting: write its block)")
+    fit.add_argument("--setting", help="the scene setting it drives, e.g. materials.joints.ft (with --name)")
     fit.add_argument("--per", choices=("unit", "joint"), help="what carries one value where a variant draws per item")
     fit.add_argument("--measured", help="what a results column measured: flexural_bond, modulus_of_rupture or "
                                         "as_is (a sheet of raw records says it itself)")

@@ -157,15 +157,15 @@ def fractile_interval(x, distribution, p=0.05, conf=0.95):
     return back(m - t[0] * s / math.sqrt(n)), back(m - t[1] * s / math.sqrt(n))
 
 
-def block(lab, name, setting, unit, factor, source, seed, per=None, distribution=None, prior_cov=None,
-          resamples=999):
-    """The study file's variable ``name`` from a read sheet (labsheet.read_sheet)
-    and the conversion to the model's parameter (``factor`` and its
-    ``source``): the study's numbers (mean and cov of the model's
-    parameter; the distribution the AICc's best of lognormal and normal,
-    or ``distribution``), and under ``provenance`` the data, the fits, the
-    intervals and the characteristic values of what the test measured, in
-    the unit a study shows ``unit`` (SI) in."""
+def measured(lab, unit, seed, distribution=None, prior_cov=None, resamples=999):
+    """What a read sheet (labsheet.read_sheet) measured, fitted: (the lab's
+    numbers, the fits, the distribution the characteristic values and a
+    study file's block use).  The numbers are in the unit a study shows
+    ``unit`` (SI) in: mean and cov with their intervals, the fits' AICc and
+    p-values, the choice and why, and the characteristic values.  The
+    distribution is ``distribution`` where given, else the AICc's best of
+    those a study file draws from (STUDY_FAMILIES), which need not be the
+    best of all (``choice`` says so)."""
     text, size, _ = shown(unit)
     x = lab["values"] / size                      # fitted in the unit a study shows (MPa)
     fits = fit_distributions(x, seed, resamples=resamples)
@@ -174,34 +174,62 @@ def block(lab, name, setting, unit, factor, source, seed, per=None, distribution
     xk, k = characteristic(x, dist, prior_cov)
     lo, hi = fractile_interval(x, dist)
     cov = float(x.std(ddof=1) / x.mean())
-    measured = {
+    lab_numbers = {
         "quantity": lab["quantity"], "method": lab["method"], "mean": q(x.mean()),
         "mean_95": [q(v) for v in mean_interval(x)], "cov": round(cov, 4), "cov_95": [round(v, 4) for v in cov_interval(x)],
-        "fit": {"seed": seed, "resamples": resamples, "choice": choose(fits)["note"],
+        "fit": {"seed": seed, "resamples": resamples, "choice": _choice(fits, dist, distribution is not None),
                 **{f: {"aicc": round(r["aicc"], 3), "ad_pvalue": round(r["ad_pvalue"], 3)} for f, r in fits.items()}},
         "characteristic": {"en1990": q(xk), "k_n": round(k, 3), "v_x": "known" if prior_cov else "unknown",
                            **({"prior_cov": prior_cov} if prior_cov else {}),
                            "fractile_5_95": [q(lo), q(hi)], "tolerance_95_95": q(tolerance_bound(x, dist))}}
+    return lab_numbers, fits, dist
+
+
+def _choice(fits, dist, given):
+    """The choice of ``dist`` in words: the AICc's ranking of all families,
+    and why ``dist`` is the one used (given, or the better of those a study
+    file draws from)."""
+    why = ("as --distribution gives it" if given else
+           f"the smaller AICc of {' and '.join(STUDY_FAMILIES)}, the families a study file draws from")
+    return f"{choose(fits)['note']}; used: {dist}, {why}"
+
+
+def block(lab, name, setting, unit, factor, source, seed, per=None, distribution=None, prior_cov=None,
+          resamples=999):
+    """The study file's variable ``name`` from a read sheet (labsheet.read_sheet)
+    and the conversion to the model's parameter (``factor`` and its
+    ``source``): the study's numbers (mean and cov of the model's
+    parameter, the distribution ``measured`` chose) and under
+    ``provenance`` the data, the conversion and what the test measured
+    (``measured``)."""
+    lab_numbers, fits, dist = measured(lab, unit, seed, distribution, prior_cov, resamples)
+    text, size, _ = shown(unit)
+    x = lab["values"] / size
     provenance = {"data": lab["path"], "sha256": lab["sha256"], "n": int(x.size), "screened": lab["screened"],
-                  "conversion": {"factor": round(float(factor), 6), "source": source}, "lab": measured}
+                  "conversion": {"factor": round(float(factor), 6), "source": source}, "lab": lab_numbers}
     entry = {"setting": setting, **({"per": per} if per else {}), "distribution": dist,
-             "mean": q(factor * x.mean()), "cov": round(cov, 4), "provenance": provenance}
+             "mean": f"{float(factor * x.mean()):.4g} {text}".rstrip(), "cov": lab_numbers["cov"],
+             "provenance": provenance}
     return {name: entry}, fits
 
 
-def summary(lab, name, entry, fits):
-    """The lines ``masonrydem fit`` prints (as YAML comments) above the block."""
-    p = entry["provenance"]["lab"]
-    lines = [f"{lab['name']}: {lab['quantity']}, {entry['provenance']['n']} results ({lab['method']})"]
+def summary(lab, lab_numbers, fits, dist, conversion=None):
+    """The lines ``masonrydem fit`` prints: the sheet, the screened rows,
+    the fits, the choice, the statistics and characteristic values of what
+    it measured (``measured``), and where a block follows, its conversion
+    (``conversion``: (name, factor, source))."""
+    p = lab_numbers
+    lines = [f"{lab['name']}: {lab['quantity']}, {lab['values'].size} results ({lab['method']})"]
     lines += [f"screened: row {s['row']} ({s['failure']}): {s['reason']}" for s in lab["screened"]]
     lines += [f"{f}: AICc {r['aicc']:.2f}, Anderson-Darling p {r['ad_pvalue']:.3f} (bootstrap, "
               f"{p['fit']['resamples']} resamples)" for f, r in fits.items()]
     c = p["characteristic"]
     lines += [p["fit"]["choice"], f"mean {p['mean']} ({p['mean_95'][0]} to {p['mean_95'][1]}), cov {p['cov']} "
               f"({p['cov_95'][0]} to {p['cov_95'][1]}); 95 % intervals",
-              f"characteristic (EN 1990 D7.2, {entry['distribution']}, k_n {c['k_n']}, V_X {c['v_x']}): "
+              f"characteristic (EN 1990 D7.2, {dist}, k_n {c['k_n']}, V_X {c['v_x']}): "
               f"{c['en1990']}; 95/95 tolerance bound (ISO 16269-6) {c['tolerance_95_95']}; 5 % fractile "
-              f"{c['fractile_5_95'][0]} to {c['fractile_5_95'][1]} (95 %)",
-              f"{name} = {entry['provenance']['conversion']['factor']:g} x {lab['quantity']}: "
-              f"{entry['provenance']['conversion']['source']}"]
+              f"{c['fractile_5_95'][0]} to {c['fractile_5_95'][1]} (95 %)"]
+    if conversion:
+        name, factor, source = conversion
+        lines.append(f"{name} = {round(float(factor), 6):g} x {lab['quantity']}: {source}")
     return lines
