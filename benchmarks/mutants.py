@@ -216,6 +216,8 @@ FAULTS = [
     ("the design band without the residual", "analysis/validation.py",
      "band = np.sqrt(prop_sd ** 2 + resid_sd ** 2)", "band = prop_sd"),
     # the lab fit, the lab sheet and the design value
+    ("the Weibull's logs tested as a Gumbel of the maximum", "analysis/labfit.py",
+     "stats.goodness_of_fit(stats.gumbel_l, np.log(x)", "stats.goodness_of_fit(stats.gumbel_r, np.log(x)"),
     ("a study file's family the best of all three", "analysis/labfit.py",
      'dist = distribution or choose(fits, STUDY_FAMILIES)["best"]', 'dist = distribution or choose(fits)["best"]'),
     ("the tolerance bound's s with n", "analysis/labfit.py",

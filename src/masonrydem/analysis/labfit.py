@@ -50,11 +50,25 @@ def fit_distributions(values, rng, families=FAMILIES, resamples=999):
         fitted = dist(*dist.fit(x, **({"floc": 0.0} if known else {})))
         ll = float(np.sum(fitted.logpdf(x)))
         aic = 2 * k - 2 * ll + (2 * k * (k + 1) / (n - k - 1) if n > k + 1 else 0.0)
-        gof = stats.goodness_of_fit(dist, x, known_params=known, statistic="ad", n_mc_samples=resamples,
-                                    rng=streams[fam])
+        gof = _goodness_of_fit(fam, x, resamples, streams[fam])
         out[fam] = {"loglik": ll, "aicc": aic, "ad_statistic": float(gof.statistic), "ad_pvalue": float(gof.pvalue),
                     "mean": float(fitted.mean()), "cov": float(fitted.std() / fitted.mean())}
     return out
+
+
+def _goodness_of_fit(family, x, resamples, rng):
+    """scipy.stats.goodness_of_fit's Anderson-Darling test of ``family``
+    with its parameters estimated.  A Weibull with location 0 is tested as
+    the minimum-Gumbel of the logs, its exact image (log of a Weibull of
+    shape k and scale s: a Gumbel of the minimum, location log s, scale
+    1 / k; maximum likelihood and the statistic, a function of the fitted
+    CDF at the values, carry over): the same statistic and p-value,
+    ten times as fast (scipy fits the Gumbel in closed form up to one root,
+    the Weibull by a general optimiser; tests/test_labfit.py)."""
+    if family == "weibull":
+        return stats.goodness_of_fit(stats.gumbel_l, np.log(x), statistic="ad", n_mc_samples=resamples, rng=rng)
+    dist, known = _SCIPY[family]
+    return stats.goodness_of_fit(dist, x, known_params=known, statistic="ad", n_mc_samples=resamples, rng=rng)
 
 
 def choose(fits, among=FAMILIES):
