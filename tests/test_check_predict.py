@@ -440,3 +440,30 @@ def test_predict_refuses_another_wallette():
     assert e.value.field == "--scene" and "215 x 65 x 102.5 mm" in e.value.reason
     assert "results/studies/geometry/study/predictor.json" in e.value.reason
     assert predict.predict(p, None, build_scene(WILLIS), **x).mode == "joint"
+
+
+@pytest.mark.parametrize("samples", [7, 12, 80])
+def test_check_says_what_a_study_s_sample_count_will_give(tmp_path, samples):
+    """`check` on the Waal study at 7, 12 and 80 samples says, before
+    anything runs, what its analysis can give: a mode's equation needs 7
+    samples failing in it (the nested 5-fold cross-validation over whole
+    samples); Sobol indices need 10 runs of a variant and level; the
+    non-parametric 5 % fractile's 95 % interval has a lower end, X_(1),
+    only where P(no run below the fractile) = 0.95^n <= 0.025, n >= 72
+    (computed here from the binomial, not the package)."""
+    import math
+    import yaml
+    study = yaml.safe_load(open("config/studies/waal.yaml"))
+    study.update(samples=samples, scene=str(__import__("pathlib").Path(study["scene"]).resolve()))
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump(study))
+    r = _cli("check", str(path))
+    assert r.returncode == 0, r.stderr
+    out = r.stdout
+    need = math.ceil(math.log(0.025) / math.log(0.95))
+    assert need == 72 and f"outputs at {samples} samples x 3 levels:" in out
+    assert f"at least 7 of the {samples} samples fail in it" in out
+    assert ("Sobol indices: none (7 runs per variant and level; a group needs 10" in out) == (samples < 10)
+    assert (f"Sobol indices: {samples} runs per variant and level" in out) == (samples >= 10)
+    assert (f"has no lower end ({samples} runs per variant and level; it needs {need})" in out) == (samples < need)
+    assert ("non-parametric one's interval has both ends" in out) == (samples >= need)

@@ -115,8 +115,35 @@ def study_summary(study):
               f"{runs:,}; each drive at most {drive:,} steps, {_duration(drive * per_step)} on one core (the scene's "
               "estimate at the mean properties), before a precompression's own steps; a run that passes its peak "
               "stops sooner",
+              *study_outputs(study),
               "  nothing was drawn or run"]
     return lines
+
+
+def study_outputs(study):
+    """What the study's sample count lets its analysis give, from the
+    analysis's own minimums: the prediction equations (a failure mode
+    needs MIN_SAMPLES samples failing in it, in the regression variant),
+    the Sobol indices (MIN_RUNS runs in a group: a variant, level and
+    failure mode, or all modes) and the non-parametric 5 % fractile's
+    interval (a lower end needs the n at which order_ranks gives one)."""
+    from ..analysis.fractiles import order_ranks
+    from ..analysis.sensitivity import MIN_RUNS
+    from ..study.terms import MIN_SAMPLES
+    n, levels = study.samples, len(study.levels)
+    lower = next(m for m in range(n, 10 ** 4) if order_ranks(m)[0] is not None)
+    equations = (f"    prediction equations (variant {study.regression_variant}): a failure mode gets one where at "
+                 f"least {MIN_SAMPLES} of the {n} samples fail in it at some level; else the other mode's stands for "
+                 "both, and `predict` says so" if study.regression_variant else
+                 "    prediction equations: none (no variant draws per wallette)")
+    sobol = (f"    Sobol indices: {n} runs per variant and level, all modes together; a failure mode's own need "
+             f"{MIN_RUNS} runs failing in it at a level" if n >= MIN_RUNS else
+             f"    Sobol indices: none ({n} runs per variant and level; a group needs {MIN_RUNS}: "
+             f"samples: {MIN_RUNS} or more)")
+    fractile = (f"    5 % fractiles: lognormal with its 95 % interval; the non-parametric one's interval "
+                + ("has both ends" if lower <= n else f"has no lower end ({n} runs per variant and level; it needs "
+                                                      f"{lower})"))
+    return [f"  outputs at {n} samples x {levels} levels:", equations, sobol, fractile]
 
 
 def _count(n, word):
