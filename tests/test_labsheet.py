@@ -113,7 +113,8 @@ def test_a_four_point_sheet_by_statics(tmp_path):
 
 # the failure codes per sheet as docs/lab-to-design.md, section 1, lists them: kept, screened
 CODES = {
-    "f_tj [MPa],failure\n": (("ok", "valid"), ("invalid", "outside"), "0.3"),
+    "f_tj [MPa],failure\n": (("ok", "valid", "bond", "joint", "inside"), ("unit", "outside", "clamp", "support",
+                                                                          "invalid"), "0.3"),
     "load [N],lever arm [mm],width [mm],depth [mm],failure\n":
         (("ok", "valid", "bond", "joint"), ("unit", "outside", "clamp", "invalid"), "500,300,210,100"),
     "load [kN],span [mm],width [mm],depth [mm],failure\n":

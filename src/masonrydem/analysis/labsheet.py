@@ -32,12 +32,9 @@ from ..specimen.quantities import to_si
 MIN_RESULTS = 3
 TEXT_COLUMNS = ("failure", "specimen", "note")
 
-# the failure column's codes per form: kept, or screened with the reason the
+# the failure column's codes per test: kept, or screened with the reason the
 # report gives; an empty cell keeps the specimen, any other text is refused
-FAILURE_CODES = {
-    "results": {"keep": ("", "ok", "valid"),
-                "screen": {"invalid": "declared invalid by the lab",
-                           "outside": "failed outside what the test measures"}},
+TEST_CODES = {
     "bond_wrench": {"keep": ("", "ok", "valid", "bond", "joint"),
                     "screen": {"unit": "broke through a unit: it measured the unit, not the bond",
                                "outside": "failed outside the tested joint",
@@ -47,6 +44,14 @@ FAILURE_CODES = {
                      "screen": {"outside": "broke outside the constant-moment zone",
                                 "support": "broke at a support or under a loading point",
                                 "invalid": "declared invalid by the lab"}},
+}
+# a results column, whose sheet does not say which test it holds, takes every
+# test's codes; its own reasons where they differ
+RESULTS_SCREEN = {"invalid": "declared invalid by the lab", "outside": "failed outside what the test measures"}
+FAILURE_CODES = {
+    "results": {"keep": tuple(dict.fromkeys(c for f in TEST_CODES.values() for c in f["keep"])),
+                "screen": {**{c: r for f in TEST_CODES.values() for c, r in f["screen"].items()}, **RESULTS_SCREEN}},
+    **TEST_CODES,
 }
 
 # header names (lower case) -> the formula's symbol, per form; symbol -> SI unit, words
