@@ -170,3 +170,43 @@ def test_conversion_at_depths_worked_by_hand(depth, factor):
     both flexural tests alike."""
     for measured in ("flexural_bond", "modulus_of_rupture"):
         assert S.conversion(measured, depth)[0] == pytest.approx(factor, rel=1e-12)
+
+
+def test_a_raw_sheet_with_the_labs_computed_strengths(tmp_path):
+    """The worked example's bond-wrench sheet with one more column, the
+    strengths a lab computed from the loads by the same formula, worked
+    here from the statics by hand ((F1 e1 + F2 e2) / (b d^2 / 6) -
+    (F1 + F2 + F3) / (b d)) and written to 2 decimals in N/mm2: read, the
+    same values as without it (the loads' strengths, not the rounded
+    ones), the method saying the lab's column agrees.  One cell 2 % off is
+    refused naming its row and the column; a column of another formula
+    (the lever arm taken 50 mm shorter, from the joint's face) is refused
+    on its first row."""
+    text = open(BOND_SHEET).read()
+    lines = text.splitlines()
+    head = next(i for i, t in enumerate(lines) if t.startswith("specimen,"))
+
+    def strength(cells, arm=0.0):
+        F1, e1, F2, e2, F3, b, d = (float(x) for x in cells[1:8])
+        F1, F2, F3, e1, e2, b, d = F1, F2, F3, (e1 - arm) / 1e3, e2 / 1e3, b / 1e3, d / 1e3
+        return ((F1 * e1 + F2 * e2) / (b * d ** 2 / 6) - (F1 + F2 + F3) / (b * d)) / 1e6
+
+    def with_column(f, name="f_w [N/mm2]"):
+        out = lines[:head] + [lines[head] + f",{name}"]
+        out += [t + f",{f(t.split(','), k):.2f}" for k, t in enumerate(lines[head + 1:])]
+        p = tmp_path / "with.csv"
+        p.write_text("\n".join(out) + "\n")
+        return p
+
+    plain = S.read_sheet(BOND_SHEET)
+    lab = S.read_sheet(with_column(lambda c, k: strength(c)))
+    assert list(lab["values"]) == list(plain["values"]) and lab["screened"] == plain["screened"]
+    assert "the lab's column 'f_w [N/mm2]' agrees with it" in lab["method"]
+    with pytest.raises(InputError) as e:
+        S.read_sheet(with_column(lambda c, k: strength(c) * (1.02 if k == 3 else 1.0)))
+    row = head + 1 + 3 + 1                                     # the header's line, then the fourth specimen
+    assert e.value.field == f"with.csv row {row}, column 'f_w [N/mm2]'"
+    assert "where the loads give" in e.value.reason and "another formula" in e.value.reason
+    with pytest.raises(InputError) as e:
+        S.read_sheet(with_column(lambda c, k: strength(c, arm=50.0)))
+    assert e.value.field == f"with.csv row {head + 2}, column 'f_w [N/mm2]'"

@@ -13,6 +13,11 @@ columns (``failure``, ``specimen``, ``note``) is ``name [unit]``:
 3. unit flexure: ``load``, ``span``, optional ``load span`` (four-point
    bending; without it three-point), ``width``, ``depth``.
 
+A sheet of the second or third form may carry one more column in a stress
+unit, of any name: the strengths the lab computed from its loads.  Each is
+checked against the strength the loads give here, within LAB_TOLERANCE and
+the rounding of the digits written; the loads' strengths are the ones used.
+
 Rows are numbered as a text editor shows the file's lines (comment lines,
 starting with '#', and the header count), columns as the header writes
 them: ``lab.csv row 4, column 'load [kN]'``.
@@ -30,6 +35,10 @@ from ..errors import InputError
 from ..specimen.quantities import to_si
 
 MIN_RESULTS = 3
+LAB_TOLERANCE = 0.01     # a lab's computed strength agrees with the loads' within 1 %, and its rounding
+METHODS = {"results": "read as written",
+           "bond_wrench": "bond wrench: (F1 e1 + F2 e2) / Z - (F1 + F2 + F3) / A, lever arms from the joint's centre",
+           "unit_flexure": "three-point bending, 3 P L / (2 b d^2)"}
 TEXT_COLUMNS = ("failure", "specimen", "note")
 
 # the failure column's codes per test: kept, or screened with the reason the
@@ -109,7 +118,7 @@ def read_sheet(path, unit="Pa"):
     if not rows:
         raise InputError(f"{path.name} row {header_row}", "a header and no specimens under it")
     form, keys, text = _columns(columns, header_row, where)
-    factors = {c: _unit_factor(c, SYMBOLS[k][0] if form != "results" else unit, where(header_row, c))
+    factors = {c: _unit_factor(c, {"results": unit}.get(form, SYMBOLS.get(k, ("Pa",))[0]), where(header_row, c))
                for c, k in keys.items()}
     cells, screened = [], []
     for (row, _), cells_of_row in zip(rows, table[1:]):
@@ -127,7 +136,11 @@ def read_sheet(path, unit="Pa"):
                              f"{record[text['failure']]!r} is no failure code of a {form.replace('_', ' ')} sheet: "
                              f"kept {', '.join(c for c in codes['keep'] if c)} (or empty), screened "
                              f"{', '.join(codes['screen'])}")
-        cells.append((row, {k: _cell(record[c], factors[c], k, where(row, c)) for c, k in keys.items()}))
+        cell = {k: _cell(record[c], factors[c], k, where(row, c)) for c, k in keys.items()}
+        lab = next((c for c, k in keys.items() if k == "lab"), None)
+        if lab:                                # half a unit of the last digit written
+            cell["lab_rounding"] = 0.5 * 10.0 ** -len(record[lab].partition(".")[2]) * factors[lab]
+        cells.append((row, cell))
     return _results(path, raw, form, keys, cells, screened, where, text, header_row)
 
 
@@ -164,9 +177,13 @@ def _columns(columns, row, where):
     form = "unit_flexure" if vocabulary is UNIT_FLEXURE else "bond_wrench"
     keys = {}
     for col, name in named.items():
+        if name not in vocabulary and "lab" not in keys.values() and _is_stress(col):
+            keys[col] = "lab"                  # the strength the lab computed from the loads: checked against them
+            continue
         if name not in vocabulary or vocabulary[name] in keys.values():
             raise InputError(where(row, col), f"no column of a {form.replace('_', ' ')} sheet, or a second one of "
-                                              f"its name (its columns: {', '.join(vocabulary)})")
+                                              f"its name (its columns: {', '.join(vocabulary)}, and one of the "
+                                              "strengths the lab computed, in a stress unit)")
         keys[col] = vocabulary[name]
     missing = [n for n, k in vocabulary.items() if k not in keys.values() and k not in OPTIONAL]
     if missing:
@@ -175,6 +192,15 @@ def _columns(columns, row, where):
     if form == "bond_wrench" and ("F2" in keys.values()) != ("e2" in keys.values()):
         raise InputError(where(row, list(named)[0]), "the wrench's weight and its lever arm go together: both or neither")
     return form, keys, text
+
+
+def _is_stress(col):
+    """Whether a header's unit is a stress's."""
+    try:
+        _unit_factor(col, "Pa", col)
+    except InputError:
+        return False
+    return True
 
 
 def _unit_factor(col, si, field):
@@ -204,6 +230,7 @@ def _results(path, raw, form, keys, cells, screened, where, text, header_row):
         raise InputError(f"{path.name} rows {screened[0]['row']}-{screened[-1]['row']}, column '{text['failure']}'",
                          "every specimen is screened out: nothing is left to fit")
     values = []
+    method = "four-point bending, 3 P (L - L_i) / (2 b d^2)" if "L_i" in keys.values() else METHODS[form]
     for row, c in cells:
         if form == "results":
             v = c["result"]
@@ -215,6 +242,11 @@ def _results(path, raw, form, keys, cells, screened, where, text, header_row):
                 raise InputError(where(row, next(k for k, s in keys.items() if s == "L_i")),
                                  "the load span must be shorter than the span")
             v = flexural_strength(c["P"], c["L"], c["b"], c["d"], c.get("L_i", 0.0))
+        if "lab" in c and abs(c["lab"] - v) > LAB_TOLERANCE * v + c["lab_rounding"]:
+            raise InputError(where(row, next(k for k, s in keys.items() if s == "lab")),
+                             f"the lab's {c['lab'] / 1e6:.4g} MPa, where the loads give {v / 1e6:.4g} MPa "
+                             f"by {method}: another formula (the lever arms, the unit's weight?) or a "
+                             "wrong cell")
         if not v > 0:
             raise InputError(where(row, result_col), f"the strength comes out at {v / 1e6:.4g} MPa: the vertical "
                                                      "loads' compression exceeds the bending (lever arms from the "
@@ -227,10 +259,8 @@ def _results(path, raw, form, keys, cells, screened, where, text, header_row):
                          "are needed" + (f" ({len(screened)} screened out)" if screened else ""))
     quantity = re.match(r"(.*?)\s*\[", result_col)[1] if form == "results" else \
         {"bond_wrench": "flexural bond strength", "unit_flexure": "modulus of rupture"}[form]
-    method = {"results": "read as written",
-              "bond_wrench": "bond wrench: (F1 e1 + F2 e2) / Z - (F1 + F2 + F3) / A, lever arms from the joint's centre",
-              "unit_flexure": ("four-point bending, 3 P (L - L_i) / (2 b d^2)" if "L_i" in keys.values()
-                               else "three-point bending, 3 P L / (2 b d^2)")}[form]
+    if "lab" in keys.values():
+        method += f"; the lab's column '{next(k for k, s in keys.items() if s == 'lab')}' agrees with it"
     depth = float(np.mean([c["d"] for _, c in cells])) if form != "results" else None
     return {"name": path.name, "path": str(path), "sha256": hashlib.sha256(raw).hexdigest(), "form": form,
             "quantity": quantity, "measured": MEASURES.get(form), "values": np.array(values),
