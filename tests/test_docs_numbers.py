@@ -425,3 +425,15 @@ def test_the_seeded_faults():
     import ast
     faults = ast.literal_eval(body[len("FAULTS = "):] + "]")
     assert f"seeds {len(faults)} faults" in _flat(README)
+
+
+def test_the_batch_size_as_the_config_gives_it():
+    """docs/workflow.md and docs/cluster.md give the study's batch size
+    (config batch.runs) as config/config.yaml sets it, and the columns of
+    results/study/timing.csv that workflow.md names exist."""
+    runs = CONFIG["batch"]["runs"]
+    assert f"`batch.runs` samples ({runs})" in _flat(DOCS["docs/workflow.md"])
+    assert f"(config `batch.runs`, {runs})" in DOCS["docs/cluster.md"]
+    timing = pd.read_csv(RESULTS / "study/timing.csv")
+    named = set(re.findall(r"\(`([a-z_]+)`", _flat(_section(DOCS["docs/workflow.md"], "`benchmarks/study_time.py`"))))
+    assert named and named <= set(timing.columns), named - set(timing.columns)
