@@ -138,8 +138,8 @@ def study_outputs(study):
                  "    prediction equations: none (no variant draws per wallette)")
     sobol = (f"    Sobol indices: {n} runs per variant and level, all modes together; a failure mode's own need "
              f"{MIN_RUNS} runs failing in it at a level" if n >= MIN_RUNS else
-             f"    Sobol indices: none ({n} runs per variant and level; a group needs {MIN_RUNS}: "
-             f"samples: {MIN_RUNS} or more)")
+             f"    Sobol indices: none ({n} runs per variant and level; a group needs {MIN_RUNS}: give samples: "
+             f"{MIN_RUNS} or more)")
     fractile = (f"    5 % fractiles: lognormal with its 95 % interval; the non-parametric one's interval "
                 + ("has both ends" if lower <= n else f"has no lower end ({n} runs per variant and level; it needs "
                                                       f"{lower})"))
