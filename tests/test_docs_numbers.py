@@ -437,3 +437,40 @@ def test_the_batch_size_as_the_config_gives_it():
     timing = pd.read_csv(RESULTS / "study/timing.csv")
     named = set(re.findall(r"\(`([a-z_]+)`", _flat(_section(DOCS["docs/workflow.md"], "`benchmarks/study_time.py`"))))
     assert named and named <= set(timing.columns), named - set(timing.columns)
+
+
+def test_the_accuracy_studys_costs_as_its_tables_give_them():
+    """docs/accuracy.md's costs from the accuracy study's tables: the runs
+    that moving the defaults reruns (results/accuracy/runs.csv: all but the
+    path's, those whose setting is a path's included, and their minutes of
+    two cores), and the growth with the wallette's size (scaling.csv: the
+    seconds a run at 24, 48 and 96 units, 6, 12 and 24 courses, and the
+    exponents in units and in cells along the unit)."""
+    acc = _flat(DOCS["docs/accuracy.md"])
+    runs = pd.read_csv(RESULTS / "accuracy/runs.csv")
+    other = runs[(runs.kind != "path") & ~runs.setting.str.startswith("path")]
+    assert (f"reruns the other {len(other)} runs ({other.wall_time_s.sum() / 2 / 60:.1f} minutes of two cores"
+            in acc)
+    scaling = pd.read_csv(RESULTS / "accuracy/scaling.csv").set_index(["against", "quantity"])
+    units = scaling.loc[("units", "wall_time_s")]
+    seconds = [float(p.split(":")[1]) for p in units.points.split()]
+    assert [int(p.split(":")[0]) for p in units.points.split()] == [24, 48, 96]
+    assert (f"(6, 12, 24 courses: {', '.join(f'{t:.1f}' for t in seconds)} s a run at the defaults, exponent "
+            f"{units.exponent:.2f};" in acc)
+    assert f"as (cells along the unit)^{scaling.loc[('cells', 'wall_time_s')].exponent:.1f}." in acc
+
+
+def test_the_crack_penalty_as_the_runs_give_it():
+    """docs/accuracy.md's changes of P_max with the crack interfaces'
+    penalty at 300 and 1000 E/L, against the defaults' runs of the same
+    case (results/accuracy/runs.csv): brick failure at 0 MPa, mixed at
+    0.5 MPa, joint at 0 MPa."""
+    runs = pd.read_csv(RESULTS / "accuracy/runs.csv")
+    p = {(r.case, r.setting): r.P_max_kN for r in runs.itertuples()}
+
+    def change(case):
+        return " and ".join(f"{100 * (p[(case, f'crack_kn_ratio_{k:.1f}')] / p[(case, 'default')] - 1):+.1f}"
+                            for k in (300, 1000))
+    acc = _flat(DOCS["docs/accuracy.md"])
+    assert (f"{change('brick_sv0')} % in brick failure, {change('mixed_sv05')} % in mixed failure, "
+            f"{change('joint_sv0')} % at 0 MPa in joint failure" in acc)
