@@ -291,3 +291,23 @@ def test_the_worked_examples_design_table_from_its_study_file():
         y = runs[(runs.p_mpa == r.p_mpa) & runs.ok].strength_mpa
         assert r.f_xk_mpa == pytest.approx(fractiles.lognormal_fractile(y)[0], rel=1e-3) and r.ess > 19.9
         assert r.f_xk_hi_mpa - r.f_xk_lo_mpa > r.runs_only_hi_mpa - r.runs_only_lo_mpa     # the lab adds width
+
+
+def test_the_caption_gives_as3700_only_where_both_lab_values_are_fitted():
+    """The worked example with the units' sheet left out of the design
+    (design.units not set): no AS 3700 values in the table or its lines,
+    and the caption says why, naming the missing setting; with both, the
+    caption's sentence promises the values the lines show."""
+    from masonrydem.study.file import load_study
+    study = load_study("config/studies/waal_lab.yaml")
+    runs = pd.read_parquet("results/studies/waal_lab/study/runs.parquet")
+    lab, sampling, columns, as3700 = D.study_inputs(study, "bond", None)
+    assert as3700 is None
+    t = D.design_table(runs, "p_mpa", columns, sampling, lab, 2.5, 0.4, as3700, 0, resamples=50)
+    assert "as3700_stepped_mpa" not in t and not any("AS 3700" in x for x in D.caption_lines(t, "p_mpa", "MPa"))
+    words = D.as3700_words(as3700, "bond", None)
+    assert "none are given" in words and "design.units (not set)" in words
+    both = D.study_inputs(study, "bond", "mor")[3]
+    t = D.design_table(runs, "p_mpa", columns, sampling, lab, 2.5, 0.4, both, 0, resamples=50)
+    assert all("AS 3700 stepped" in x for x in D.caption_lines(t, "p_mpa", "MPa"))
+    assert "at the lab's characteristic flexural bond and unit modulus of rupture do" in D.as3700_words(both)

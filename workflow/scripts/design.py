@@ -29,4 +29,6 @@ title = "The wallette's characteristic flexural strength from the lab's results,
 open(sm.output.page, "w").write(tables.html_table(table, title))
 captions.write_caption(sm.input.template, sm.output.caption, lines="\n".join(f"- {x}" for x in lines),
                        variant=study.regression_variant, fxk2=cfg["fxk2"], gamma_M=f"{cfg['gamma_M']:g}",
-                       resamples=cfg["resamples"], lab=", ".join(f"{n} ({len(v)} results)" for n, (_, v) in lab.items()))
+                       resamples=cfg["resamples"],
+                       as3700=design.as3700_words(as3700, cfg.get("bond"), cfg.get("units")),
+                       lab=", ".join(f"{n} ({len(v)} results)" for n, (_, v) in lab.items()))

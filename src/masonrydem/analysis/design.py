@@ -165,6 +165,19 @@ def caption_lines(table, level_column, level_unit):
     return out
 
 
+def as3700_words(as3700, bond=None, units=None):
+    """The design caption's words on AS 3700 (``as3700``: study_inputs'
+    characteristic values, or None): its rules given at the lab's values,
+    or why none are given (they need both the bond and the units' modulus
+    of rupture from lab sheets: the config's design.bond and design.units)."""
+    if as3700 is not None:
+        return ("AS 3700's horizontal-bending rules (capacity factor 1) at the lab's characteristic flexural bond "
+                "and unit modulus of rupture do")
+    missing = " and ".join(f"design.{k} ({v or 'not set'})" for k, v in (("bond", bond), ("units", units)))
+    return ("AS 3700's horizontal-bending rules, which do, need both the lab's flexural bond and its units' modulus "
+            f"of rupture, each a variable fitted to a lab sheet ({missing}): none are given here")
+
+
 def study_inputs(study, bond=None, units=None):
     """What the re-weighting needs of a typed study whose variables carry
     lab records (study.file: provenance): input -> (distribution, the lab's
