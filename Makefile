@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: reproduce report test test-browser bench bench-reduced mutants clean-cache slurm-up slurm-down test-cluster
+.PHONY: install reproduce report test test-browser bench bench-reduced mutants clean-cache slurm-up slurm-down test-cluster
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -13,6 +13,9 @@ $(BIN)/python:
 $(STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/pip install --quiet -e '.[test]'
 	touch $(STAMP)
+
+# the install alone: .venv with the package, editable, and its test extras
+install: $(STAMP)
 
 # A reproduction check: every committed study rerun from the code alone
 # into a folder of its own (never into the committed results/), then
