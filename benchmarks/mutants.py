@@ -253,7 +253,7 @@ FAULTS = [
     ("a load span as long as the span accepted", "analysis/labsheet.py", 'if c.get("L_i", 0.0) >= c["L"]:',
      'if c.get("L_i", 0.0) > c["L"]:'),
     ("a results column in Pa whatever the study's unit", "analysis/labsheet.py",
-     '{"results": unit}.get(form, SYMBOLS.get(k, ("Pa",))[0])', '{"results": "Pa"}.get(form, SYMBOLS.get(k, ("Pa",))[0])'),
+     'SYMBOLS[k][0] if form != "results" else unit', 'SYMBOLS[k][0] if form != "results" else "Pa"'),
     ("a lab's computed strength checked without its rounding", "analysis/labsheet.py",
      'LAB_TOLERANCE * v + c["lab_rounding"]', 'LAB_TOLERANCE * v'),
     ("the conversion's depth from the width column", "analysis/labsheet.py", 'np.mean([c["d"] for _, c in cells])',

@@ -69,7 +69,8 @@ BOND_WRENCH = {"load": "F1", "lever arm": "e1", "wrench weight": "F2", "wrench l
 UNIT_FLEXURE = {"load": "P", "span": "L", "load span": "L_i", "width": "b", "depth": "d"}
 SYMBOLS = {"F1": ("N", "the failure load"), "F2": ("N", "the wrench's weight"), "F3": ("N", "the unit's weight"),
            "P": ("N", "the failure load"), "e1": ("m", "the lever arm"), "e2": ("m", "the wrench's lever arm"),
-           "L": ("m", "the span"), "L_i": ("m", "the load span"), "b": ("m", "the width"), "d": ("m", "the depth")}
+           "L": ("m", "the span"), "L_i": ("m", "the load span"), "b": ("m", "the width"), "d": ("m", "the depth"),
+           "lab": ("Pa", "the lab's computed strength")}
 OPTIONAL = ("F2", "e2", "F3", "L_i")
 MEASURES = {"bond_wrench": "flexural_bond", "unit_flexure": "modulus_of_rupture"}
 
@@ -118,7 +119,7 @@ def read_sheet(path, unit="Pa"):
     if not rows:
         raise InputError(f"{path.name} row {header_row}", "a header and no specimens under it")
     form, keys, text = _columns(columns, header_row, where)
-    factors = {c: _unit_factor(c, {"results": unit}.get(form, SYMBOLS.get(k, ("Pa",))[0]), where(header_row, c))
+    factors = {c: _unit_factor(c, SYMBOLS[k][0] if form != "results" else unit, where(header_row, c))
                for c, k in keys.items()}
     cells, screened = [], []
     for (row, _), cells_of_row in zip(rows, table[1:]):
