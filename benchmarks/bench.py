@@ -59,8 +59,8 @@ from masonrydem.dem.kernels.joints import contact_forces  # noqa: E402
 from masonrydem.dem.kernels import lanes  # noqa: E402
 from masonrydem.dem.kernels.step import lane_nodes, lane_zones  # noqa: E402
 from masonrydem.dem.kernels.zones import zone_forces  # noqa: E402
-from masonrydem.specimen.scene import build_scene  # noqa: E402
-from masonrydem.dem.solver import Controls, init, prescribe, zone_damage  # noqa: E402
+from masonrydem.scene import build_scene  # noqa: E402
+from masonrydem.dem import Controls, init, prescribe, zone_damage  # noqa: E402
 from masonrydem.specimen.build import build  # noqa: E402
 from masonrydem.dem.stops import run  # noqa: E402
 
@@ -87,13 +87,13 @@ FRESH = """
 import time, sys
 t0 = time.perf_counter()
 import masonrydem
-from masonrydem.specimen.scene import build_scene
-from masonrydem.dem.solver import Controls, advance, init
+from masonrydem.scene import build_scene
+from masonrydem.dem import Controls, advance, init
 from masonrydem.specimen.build import build
 t1 = time.perf_counter()
 sp = build(build_scene("config/scenes/willis.yaml", ["geometry.courses=2", "numerics.cells=[1, 1, 1]"]))
 t2 = time.perf_counter()
-advance(init(sp.assembly, sp.scene.numerics), Controls(), 1)
+advance(init(sp.assembly, sp.numerics), Controls(), 1)
 t3 = time.perf_counter()
 print(t1 - t0, t3 - t2)
 """
@@ -179,7 +179,7 @@ def kernel_times(overrides, steps=6000, ramp=2000, lanes=LANES):
     and joint kernels and whole steps of the batch: per item, lane and
     step (ns) and per lane and step (us)."""
     sp = build(build_scene(SCENE, overrides))
-    s = prescribe(init(sp.assembly, sp.scene.numerics), sp.drive, [0.0, 5e-8, 0.0])
+    s = prescribe(init(sp.assembly, sp.numerics), sp.drive, [0.0, 5e-8, 0.0])
     s, _, _ = run(s, steps, controls=Controls(ramp_steps=ramp), chunk=500)
     nt, nc, nsc = s.zones.tets.shape[0], s.assembly.cells.nodes.shape[0], s.joints.area.shape[0]
     # whole steps as a stage runs them: 500 steps, their histories and peaks
@@ -226,13 +226,11 @@ def job_times(tiny):
     import tempfile
     from masonrydem.specimen.row import write_json
     from masonrydem.study.file import load_study
-    from masonrydem.study.sampling import records, wallette_samples
-    from masonrydem.study.settings import record
+    from dataclasses import replace
     size = TINY if tiny else ["geometry.courses=2", "numerics.cells=[1, 1, 1]"]
-    study = load_study("config/studies/willis.yaml")
-    table, _ = wallette_samples(2, 1, study.variables, study.correlations)
+    study = replace(load_study("config/studies/willis.yaml"), samples=2, seed=1)
     with tempfile.TemporaryDirectory() as tmp:
-        write_json(f"{tmp}/samples.json", [record(r, "wallette", study.variables, study.rules) for r in records(table)])
+        write_json(f"{tmp}/samples.json", study.draw("nonspatial").records())
         cmd = [sys.executable, "-m", "masonrydem.cli", "run", SCENE, "--samples", f"{tmp}/samples.json", "--variant",
                "nonspatial", "--sample", "0", "--out", tmp, "--format", "json", "--exit-zero",
                *(x for o in size for x in ("--set", o))]
@@ -261,14 +259,9 @@ def lever_times(n=6, levels=(0.0, 0.5)):
     of the first ``n`` committed non-spatial samples at ``levels``, and
     their P_max's mean change against 'before' (its runs first, so that all
     run with warm kernels)."""
-    import pandas as pd
     from gate import W, run_one
     from masonrydem.study.file import load_study
-    from masonrydem.study.settings import record
-    study = load_study("config/studies/willis.yaml")
-    table = pd.read_parquet("results/study/samples_nonspatial.parquet")
-    samples = [record({k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in table.iloc[i].to_dict().items()},
-                      "wallette", study.variables, study.rules) for i in range(n)]
+    samples = load_study("config/studies/willis.yaml").draw("nonspatial").records()[:n]
     run_one(W, TINY + ["numerics.cells=[1, 1, 1]"], samples[0], "nonspatial")     # kernels loaded
     out, base = {}, None
     for name, overrides in LEVERS.items():

@@ -24,6 +24,7 @@ import yaml  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(__file__))
 from gate import W, run_one  # noqa: E402
+from masonrydem.study.file import load_study  # noqa: E402
 
 RULE = "loading.bending.past_peak={drop: 0.05, after: 1.0e-4, at_most: 2.0e-4}"
 SAME = ("P_max_kN", "disp_at_peak_mm", "drop_after_peak", "peak_step")
@@ -52,11 +53,9 @@ def main():
     committed = pd.read_parquet("results/study/runs.parquet").set_index(["variant", "sigma_v_mpa", "sample"])
     levels = sorted(committed.index.get_level_values(1).unique()) if args.all else args.levels
     n = int(committed.index.get_level_values(2).max()) + 1 if args.all else args.samples
-    jobs = []
+    jobs, study = [], load_study("config/studies/willis.yaml")
     for variant in ("nonspatial", "spatial"):
-        table = pd.read_parquet(f"results/study/samples_{variant}.parquet")
-        for i in range(n):
-            s = {k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in table.iloc[i].to_dict().items()}
+        for s in study.draw(variant).records()[:n]:
             for sv in levels:
                 jobs.append((variant, sv, s, numerics + [f"loading.precompression.pressure={sv * 1e6}", args.rule]))
     rows, t0 = [], time.perf_counter()

@@ -51,21 +51,16 @@ SKIP = ("wall_time_s", "solver_version", "startup_s")
 
 
 def study_runs(n=10, levels=(0.0, 0.5)):
-    """(name, overrides, sample record, variant) of n committed samples per
-    variant of the Willis study (config/studies/willis.yaml)."""
-    import pandas as pd
-
+    """(name, overrides, sample record, variant) of the first n samples per
+    variant of the Willis study (config/studies/willis.yaml, Study.draw:
+    the committed samples)."""
     from masonrydem.study.file import load_study
-    from masonrydem.study.settings import record
     with open("config/config.yaml") as f:
         numerics = yaml.safe_load(f)["numerics"]
     study = load_study("config/studies/willis.yaml")
     out = []
     for variant in ("nonspatial", "spatial"):
-        table = pd.read_parquet(f"results/study/samples_{variant}.parquet")
-        for i in range(n):
-            s = {k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in table.iloc[i].to_dict().items()}
-            s = record(s, study.variants[variant]["draw"], study.variables, study.rules)
+        for i, s in enumerate(study.draw(variant).records()[:n]):
             for sv in levels:
                 out.append((f"study_{variant}_s{i}_sv{sv}",
                             numerics + [f"loading.precompression.pressure={sv * 1e6}"], s, variant))
@@ -85,7 +80,7 @@ def run_one(scene_file, overrides, sample=None, variant=None):
     """(row, curve) of one run, values as they are written."""
     from masonrydem.specimen.protocol import simulate
     from masonrydem.specimen.row import curve, outcome_row
-    from masonrydem.specimen.scene import build_scene
+    from masonrydem.scene import build_scene
     labels, settings, label = {}, None, None
     if sample is not None:
         labels = dict(variant=variant, sample=int(sample["sample"]), inputs=sample["inputs"])

@@ -20,20 +20,19 @@ import sys
 import tempfile
 import time
 from collections import defaultdict
+from dataclasses import replace
 from pathlib import Path
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-import pandas as pd  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "src"))
 
 from masonrydem.dem import batch as B  # noqa: E402
 from masonrydem.specimen import protocol, row as R  # noqa: E402
-from masonrydem.specimen.scene import build_scene  # noqa: E402
+from masonrydem.scene import build_scene  # noqa: E402
 from masonrydem.study.file import load_study  # noqa: E402
-from masonrydem.study.settings import record  # noqa: E402
 
 SPENT = defaultdict(float)
 
@@ -53,11 +52,8 @@ def timed(owner, name, part):
 
 def scenes(n, level=0.15e6):
     study = load_study(ROOT / "config/studies/willis.yaml")
-    table = pd.read_parquet(ROOT / "results/study/samples_nonspatial.parquet")
     out = []
-    for i in range(n):
-        sample = record({k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in table.iloc[i].to_dict().items()},
-                        "wallette", study.variables, study.rules)
+    for i, sample in enumerate(replace(study, scene=str(ROOT / study.scene)).draw("nonspatial").records()[:n]):
         out.append((build_scene(ROOT / study.scene, [f"loading.precompression.pressure={level}"], sample["settings"],
                                 f"nonspatial:s{i}"), sample))
     return out

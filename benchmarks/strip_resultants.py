@@ -18,8 +18,8 @@ import argparse
 import numpy as np
 
 from masonrydem.specimen.protocol import CHUNK, precompress
-from masonrydem.specimen.scene import build_scene
-from masonrydem.dem.solver import Controls, Numerics, init, prescribe
+from masonrydem.scene import build_scene
+from masonrydem.dem import Controls, init, prescribe
 from masonrydem.specimen.build import build
 from masonrydem.dem.stops import Stops, run
 
@@ -39,8 +39,7 @@ def at_peak(scene):
     P_max (kN), the peak the protocol counts, and the x of every strip's
     resultant at the end of the chunk nearest it."""
     specimen = build(scene)
-    num = scene.numerics
-    state = init(specimen.assembly, Numerics(damping=num.damping, safety=num.safety))
+    state = init(specimen.assembly, specimen.numerics)
     u0 = 0.0
     if scene.loading.precompression.pressure > 0:
         state, pre = precompress(state, specimen)
@@ -53,7 +52,7 @@ def at_peak(scene):
         seen.append((st.step, [bearing_x(st, s) for s in st.assembly.strips]))
     stops = Stops(disp_limit=u0 + drive.max_displacement, load_drop=drive.load_drop, monitor="load", balance="support")
     state, record, _ = run(state, drive.max_steps, stops, Controls(ramp_steps=drive.ramp_steps), chunk=CHUNK,
-                           record_every=num.record_every, progress=watch)
+                           record_every=scene.discretization.record_every, progress=watch)
     peak = record.peaks[record.history.group("load")]      # the peak the protocol counts (near equilibrium)
     step, xs = min(seen, key=lambda r: abs(r[0] - peak.step))
     return peak.load / 1e3, xs, state.assembly.strips

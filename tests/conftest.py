@@ -4,7 +4,7 @@ swept level are the file's, never constants of the code."""
 import pytest
 
 from masonrydem.analysis.statistics import Level
-from masonrydem.pipeline.kernel_cache import lock as lock_kernel_cache
+from masonrydem.dem import lock_kernel_cache
 from masonrydem.study.file import load_study
 
 # the test processes of `make test` (pytest-xdist) and the workflow's jobs

@@ -1,9 +1,9 @@
 """Small specimens for the verification tests."""
 import numpy as np
 
-from masonrydem import Elastic, Model
+from masonrydem.dem import Elastic, Model
 from masonrydem.dem.history import concat
-from masonrydem.dem.solver import Numerics, init, prescribe
+from masonrydem.dem import Numerics, init, prescribe
 from masonrydem.dem.stops import Stops, run
 
 # the quasi-static integration these tests were written at (local damping 0.8)

@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import masonrydem
+from masonrydem import sources
 from masonrydem.analysis import accuracy
 
 
@@ -100,24 +100,24 @@ def test_solver_hash_covers_everything_a_simulation_runs():
     in a fresh interpreter: the protocol, the row and its state) is in the
     hash, so that changing it reruns the simulations; the analysis, the
     study, the report and the pipeline are neither imported by a run nor
-    hashed.  (The package's own __init__ and the command line are not
+    hashed.  (The package's own __init__, sources.py and the command line are not
     hashed: they decide nothing a simulation computes.)"""
     code = ("import sys, masonrydem.specimen.protocol, masonrydem.specimen.row, masonrydem.specimen.state, "
-            "masonrydem.specimen.scene; "
+            "masonrydem.scene; "
             "print('\\n'.join(m.__file__ for n, m in sys.modules.items() if n.startswith('masonrydem')))")
     files = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
-    pkg = Path(masonrydem.__file__).parent
-    imported = {Path(f).relative_to(pkg).as_posix() for f in files} - {"__init__.py"}
-    sources = set(masonrydem.simulation_sources())
-    assert imported <= sources, imported - sources
-    assert "specimen/scene_schema.yaml" in sources and "dem/kernels/step.py" in sources
-    assert not any(s.split("/")[0] in ("analysis", "study", "report", "pipeline") for s in sources | imported)
+    pkg = Path(sources.__file__).parent
+    imported = {Path(f).relative_to(pkg).as_posix() for f in files} - {"__init__.py", "sources.py"}
+    hashed = set(sources.simulation_sources())
+    assert imported <= hashed, imported - hashed
+    assert "scene/schema.yaml" in hashed and "dem/kernels/step.py" in hashed
+    assert not any(s.split("/")[0] in ("analysis", "study", "report", "pipeline") for s in hashed | imported)
 
 
 def test_the_source_hash_ignores_documentation_only():
     """A docstring, a comment or a schema description does not rerun the
     simulations; a changed statement or a changed default does."""
-    from masonrydem import source_code
+    from masonrydem.sources import source_code
     base = source_code("m.py", "def f(x):\n    return x + 1\n")
     assert source_code("m.py", '"""module"""\ndef f(x):  # add one\n    """one more"""\n\n    return x + 1\n') == base
     assert source_code("m.py", "def f(x):\n    return x + 2\n") != base
@@ -127,7 +127,7 @@ def test_the_source_hash_ignores_documentation_only():
                                  "description: {type: string}\n") == y
     assert source_code("s.yaml", "a: {description: one text, type: number, default: 2.0}\n"
                                  "description: {type: string}\n") != y
-    assert len(masonrydem.source_hash()) == 12
+    assert len(sources.source_hash()) == 12
 
 
 def test_references_are_read_only_when_todays_solver_reproduces_them():

@@ -1,9 +1,12 @@
 """The package in layers (docs/architecture.md): each layer imports only
-from those below it (import-linter's contract in pyproject.toml), the
+from those below it, numba and the kernels inside dem alone, nothing
+imports the root package, no cycle in a folder (import-linter's contracts
+in pyproject.toml), no private name is imported across modules, the
 solver's hash is taken by folder, the sampling's code holds nothing of the
 solver, and a study of other names, levels and variants runs through
 sampling, the row, the regression and predict with nothing in the code
 that knows it."""
+import re
 import shutil
 import subprocess
 import sys
@@ -14,38 +17,72 @@ import pandas as pd
 import pytest
 import yaml
 
-import masonrydem
-from masonrydem import cli
+from masonrydem import cli, sources
 from masonrydem.analysis import equations as E
 from masonrydem.analysis import predict
 from masonrydem.pipeline import plan
 from masonrydem.pipeline.fingerprint import code_fingerprint, script_modules, simulation_module
 from masonrydem.specimen.row import read_json, write_json
-from masonrydem.specimen.scene import build_scene
+from masonrydem.scene import build_scene
 from masonrydem.study.file import load_study
-from masonrydem.study.sampling import records, wallette_samples
-from masonrydem.study.settings import record
 
 ROOT = Path(__file__).parent.parent
 PACKAGE = ROOT / "src" / "masonrydem"
 
 
 def test_no_layer_imports_one_above_it():
-    """import-linter's layers contract (pyproject.toml), run as `make test`
-    runs it: a kept contract and nothing broken."""
+    """import-linter's contracts (pyproject.toml), run as `make test` runs
+    them: the layers, numba and the kernels forbidden outside dem, the
+    root package protected, no cycle between siblings; all four kept."""
     exe = Path(sys.executable).with_name("lint-imports")
     r = subprocess.run([str(exe)], capture_output=True, text=True, cwd=ROOT)
     assert r.returncode == 0, r.stdout + r.stderr
-    assert "1 kept, 0 broken" in r.stdout
+    assert "4 kept, 0 broken" in r.stdout
+
+
+def test_no_private_name_is_imported_across_modules():
+    """No module of the package imports another's private name (``from .m
+    import _x``) or reads one through a module it imported (``m._x``)."""
+    import ast
+    found = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        tree = ast.parse(path.read_text())
+        modules = set()
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").startswith("masonrydem")):
+                found += [f"{path.name}:{node.lineno} {a.name}" for a in node.names if _private(a.name)]
+                modules |= {a.asname or a.name for a in node.names}
+            elif isinstance(node, ast.Import):
+                modules |= {a.asname or a.name for a in node.names if a.name.startswith("masonrydem")}
+        found += [f"{path.name}:{n.lineno} {n.value.id}.{n.attr}" for n in ast.walk(tree)
+                  if isinstance(n, ast.Attribute) and isinstance(n.value, ast.Name) and n.value.id in modules
+                  and _private(n.attr)]
+    assert not found, found
+
+
+def _private(name):
+    return name.startswith("_") and not name.startswith("__")
+
+
+def test_every_subpackage_has_a_public_face():
+    """Each folder's __init__ names its public names in __all__, and each
+    of them is there: scene and dem export what the layers above use."""
+    import importlib
+    for folder in sorted(p.parent.name for p in PACKAGE.glob("*/__init__.py")):
+        module = importlib.import_module(f"masonrydem.{folder}")
+        assert module.__all__, folder
+        for name in module.__all__:      # a name it holds, or a module of the folder (analysis, report, pipeline)
+            assert hasattr(module, name) or (PACKAGE / folder / f"{name}.py").is_file(), (folder, name)
 
 
 def test_the_solver_hash_is_taken_by_folder():
-    """The hash's inputs are every source file of dem/, specimen/ and
-    errors.py, found by walking those folders: no marker line in any file
-    decides it."""
-    walked = sorted(p.relative_to(PACKAGE).as_posix() for item in ("dem", "specimen") for p in (PACKAGE / item).rglob("*")
+    """The hash's inputs are every source file of scene/, dem/, specimen/
+    and errors.py, found by walking those folders: no marker line in any
+    file decides it."""
+    walked = sorted(p.relative_to(PACKAGE).as_posix() for item in ("scene", "dem", "specimen")
+                    for p in (PACKAGE / item).rglob("*")
                     if p.suffix in (".py", ".yaml") and "__pycache__" not in p.parts) + ["errors.py"]
-    assert masonrydem.simulation_sources() == sorted(walked)
+    assert sources.simulation_sources() == sorted(walked)
     assert not any(b"ANALYSIS_ONLY" in p.read_bytes() for p in PACKAGE.rglob("*") if p.suffix in (".py", ".yaml"))
 
 
@@ -55,7 +92,7 @@ def test_a_new_module_joins_the_hash_of_its_folder(tmp_path, monkeypatch):
     copy = tmp_path / "masonrydem"
     shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
     probe = ("import importlib, sys; sys.path.insert(0, sys.argv[1]); "
-             "import masonrydem; print(masonrydem.source_hash())")
+             "from masonrydem import sources; print(sources.source_hash())")
 
     def hash_of():
         return subprocess.run([sys.executable, "-c", probe, str(tmp_path)], capture_output=True, text=True,
@@ -68,12 +105,15 @@ def test_a_new_module_joins_the_hash_of_its_folder(tmp_path, monkeypatch):
 
 
 def test_the_sampling_code_holds_nothing_of_the_solver():
-    """The sample rule's script imports study.sampling and study.settings
-    only: no module of dem/ or specimen/ is in its fingerprint, which is
-    therefore not the solver's hash's; the collect rule's is."""
-    sample = script_modules(ROOT / "workflow" / "scripts" / "sample.py")
-    assert sample == {"", "study", "study.sampling", "study.settings"}
-    assert not any(simulation_module(m) for m in sample if m)
+    """The sample rules' scripts draw through Study.draw and
+    Study.pick_freeze (study.file), which read the scene (scene/) and
+    nothing of the solver: no module of dem/ or specimen/ is in their
+    fingerprints, which are therefore not the solver's hash's; the collect
+    rule's is."""
+    for script in ("sample.py", "sobol_check_sample.py"):
+        sample = script_modules(ROOT / "workflow" / "scripts" / script)
+        assert {"study.file", "study.sampling", "scene.typed"} <= sample, sample
+        assert not any(simulation_module(m) for m in sample if m), sample
     collect = script_modules(ROOT / "workflow" / "scripts" / "collect.py")
     assert "dem.kernels.step" in collect and "specimen.row" in collect
     assert len(code_fingerprint(ROOT / "workflow" / "scripts" / "sample.py")) == 16
@@ -115,8 +155,7 @@ def test_a_study_of_other_names_runs_through_the_row(other, tmp_path):
     and the command exits 0 with --exit-zero (nothing crashes, nothing is
     lost)."""
     assert other.regression_variant == "per_wall" and other.columns()["p"] == "p_mpa"
-    table, _ = wallette_samples(other.samples, other.seed, other.variables, other.correlations)
-    recs = [record(r, "wallette", other.variables, other.rules) for r in records(table)]
+    recs = other.draw("per_wall").records()
     bad = dict(recs[1], E_unit=5.0e12)         # beyond any plausible brick: the scene refuses it
     bad["settings"] = dict(bad["settings"], **{"materials.units.E": 5.0e12})
     samples = tmp_path / "samples.json"
@@ -140,10 +179,9 @@ def test_a_study_of_other_names_through_the_regression_and_predict(other):
     """The study's runs at its three levels, their strengths a known law of
     its inputs (the independent reason: the fit must find it), through the
     regression of its terms and its columns, and predict by its names."""
-    table, _ = wallette_samples(other.samples, other.seed, other.variables, other.correlations)
     cols = other.columns()
     rows = []
-    for r in records(table):
+    for r in other.draw("per_wall").records():
         for p in (0.0, 0.1, 0.3):
             bond, mor = r["bond"] / 1e6, r["mor"] / 1e6
             rows.append({"variant": "per_wall", "sample": r["sample"], "ok": True, cols["p"]: p,
@@ -207,3 +245,79 @@ def test_snakemake_keeps_its_records_where_the_workflow_reads_them(tmp_path):
         record = read_record(out, tmp_path / ".snakemake" / "metadata")
         assert record["rule"] == "make"
     assert len(record_path(long).parts) > 3       # the long name was cut into folders
+
+
+# --- the scene as plain data ---------------------------------------------------------------
+def test_reading_every_scene_and_study_file_loads_no_compiler():
+    """Every committed scene built into a typed Scene and every committed
+    study file loaded, its samples drawn, and `masonrydem check` of one,
+    in a fresh interpreter: numba is never imported (nor the solver)."""
+    code = """
+import sys
+from pathlib import Path
+from masonrydem.scene import build_scene
+from masonrydem.study import load_study
+from masonrydem import cli
+scenes = sorted(Path("config/scenes").glob("*.yaml"))
+studies = [p for p in sorted(Path("config/studies").rglob("*.yaml")) if not p.stem.endswith("_workflow")]
+for p in scenes:
+    build_scene(str(p))
+for p in studies:
+    study = load_study(str(p))
+    for variant in study.variants:
+        study.draw(variant).records()
+cli.main(["check", "config/studies/willis.yaml"])
+print(len(scenes), len(studies), "numba" in sys.modules, any(m.startswith("masonrydem.dem") for m in sys.modules))
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
+    assert out.stdout.split()[-4:] == ["6", "9", "False", "False"], out.stdout[-2000:]
+
+
+def test_the_study_draws_its_samples_by_its_variants():
+    """Study.draw: the other study's per-wallette variant as the sampling
+    draws it (its Latin Hypercube: one value in each of the n strata of
+    every variable), a per-item and a field variant of the same study with
+    one value per unit and joint of its wallette, the same draw for other
+    levels, another for another seed (its draw key likewise), and an
+    unknown variant refused with the study's variants named."""
+    from dataclasses import replace
+
+    from masonrydem.errors import InputError
+    from masonrydem.study.file import load_study, with_levels
+    study = load_study(str(ROOT / "config" / "studies" / "willis.yaml"))
+    other = replace(study, samples=6, variants={"one": {"draw": "wallette", "correlation_length": None},
+                                               "each": {"draw": "items", "correlation_length": None},
+                                               "fields": {"draw": "field", "correlation_length": 0.3}})
+    wall = other.draw("one")
+    for v in other.variables:
+        u = v.frozen().cdf(wall.table[v.name].to_numpy())
+        assert sorted(np.floor(u * 6).astype(int)) == list(range(6)), v.name
+    items = other.items()
+    for variant in ("each", "fields"):
+        rec = other.draw(variant).records()[0]
+        for v in other.variables:
+            assert len(rec[v.name]) == len(items[v.per]) and v.per in ("unit", "joint"), (variant, v.name)
+    again = with_levels(other, ["0 MPa", "0.3 MPa"], "levels")
+    assert again.draw("one").records() == wall.records() and again.draw_key() == other.draw_key()
+    reseeded = replace(other, seed=other.seed + 1)
+    assert reseeded.draw("one").records() != wall.records() and reseeded.draw_key() != other.draw_key()
+    with pytest.raises(InputError, match="no variant 'two'; its variants: one, each, fields"):
+        other.draw("two")
+
+
+def test_samples_are_drawn_by_the_study_alone():
+    """No code outside study/ draws samples or builds sample records itself
+    (the workflow, tools/ and benchmarks/ call Study.draw and
+    Study.pick_freeze): none imports or calls the sampling's draws, the
+    pick-freeze design or settings.record by name."""
+    import ast
+    names = {"wallette_samples", "study_samples", "item_samples", "field_samples", "lhs", "pick_freeze", "record"}
+    files = [p for folder in ("src/masonrydem", "workflow", "tools", "benchmarks") for p in (ROOT / folder).rglob("*.py")
+             if "study" not in p.relative_to(ROOT).parts[:3]]
+    found = []
+    for p in files:
+        for node in ast.walk(ast.parse(p.read_text())):
+            used = {a.name for a in node.names} if isinstance(node, ast.ImportFrom) and "study" in (node.module or "") \
+                else {node.id} - {"record"} if isinstance(node, ast.Name) else set()     # 'record': a common name
+            found += [f"{p.relative_to(ROOT)}:{node.lineno} {n}" for n in used & names]
+    assert not found, found

@@ -14,13 +14,14 @@ import pandas as pd
 import pytest
 import yaml
 
-from masonrydem import InputError, cli
+from masonrydem import cli
+from masonrydem.errors import InputError
 from masonrydem.pipeline.check import check_config
 from masonrydem.pipeline import plan
 from masonrydem.specimen import protocol, row as results
-from masonrydem.specimen.files import MAX_BYTES, read_scene
-from masonrydem.specimen.scene import SCHEMA, build_scene, validate_scene
-from masonrydem.specimen.size import model_size
+from masonrydem.scene import MAX_BYTES, read_scene
+from masonrydem.scene import SCHEMA, build_scene, validate_scene
+from masonrydem.scene import model_size
 from masonrydem.specimen.build import build
 
 WILLIS = "config/scenes/willis.yaml"

@@ -13,12 +13,12 @@ import pytest
 from masonrydem import cli
 from masonrydem.dem import lockstep
 from masonrydem.dem.batch import Batch, lane_key
-from masonrydem.dem.solver import Controls, init
+from masonrydem.dem import Controls, init
 from masonrydem.dem.stops import Stops, stage
 from masonrydem.specimen.build import build
 from masonrydem.specimen.protocol import simulate, simulate_many
 from masonrydem.specimen.row import curve, outcome_row
-from masonrydem.specimen.scene import build_scene
+from masonrydem.scene import build_scene
 
 WILLIS = "config/scenes/willis.yaml"
 # the smoke's coarse numerics: a run in a few thousand steps
@@ -118,7 +118,7 @@ def _jobs(specimens, spoil_lane=None, spoil=None):
     jobs = []
     for i, sp in enumerate(specimens):
         def start(state, sp=sp, i=i):
-            from masonrydem.dem.solver import prescribe
+            from masonrydem.dem import prescribe
             state = prescribe(state, sp.drive, sp.velocity)
             return _program(sp, state, spoil if i == spoil_lane else None)
 
@@ -143,7 +143,7 @@ def test_a_run_that_raises_or_goes_non_finite_leaves_the_others_as_they_are():
     alone = {}
     for i, sp in enumerate(specimens):
         jobs, out = _jobs([sp])
-        state = init(sp.assembly, sp.scene.numerics)
+        state = init(sp.assembly, sp.numerics)
         result = lockstep.drive(jobs[0].start(state))
         alone[i] = _stage_result(result)
 
@@ -155,7 +155,7 @@ def test_a_run_that_raises_or_goes_non_finite_leaves_the_others_as_they_are():
 
     for spoil, after in ((boom, 2), (nan, 1)):
         jobs, out = _jobs(specimens, spoil_lane=1, spoil=spoil)
-        batch = Batch(specimens[0].assembly, specimens[0].scene.numerics, 3)
+        batch = Batch(specimens[0].assembly, specimens[0].numerics, 3)
         lockstep.run(batch, jobs)
         for i in (0, 2, 3):
             assert out[i][1] is None and _stage_result(out[i][0]) == alone[i], (spoil.__name__, i)
@@ -171,8 +171,8 @@ def test_a_batch_takes_only_runs_of_its_mesh():
     its own, each result as alone."""
     a, b = build_scene(WILLIS, COARSE), build_scene(WILLIS, COARSE + ["geometry.courses=5"])
     sa, sb = build(a), build(b)
-    assert lane_key(sa.assembly, a.numerics) != lane_key(sb.assembly, b.numerics)
-    batch = Batch(sa.assembly, a.numerics, 2)
+    assert lane_key(sa.assembly, sa.numerics) != lane_key(sb.assembly, sb.numerics)
+    batch = Batch(sa.assembly, sa.numerics, 2)
     with pytest.raises(ValueError, match="share one mesh"):
         batch.load(1, sb.assembly)
     scenes = [a, b, a]

@@ -7,7 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from masonrydem.specimen.scene import build_scene
+from masonrydem.scene import build_scene
 from masonrydem.specimen.build import build
 
 ROOT = Path(__file__).resolve().parents[1]

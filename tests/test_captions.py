@@ -11,7 +11,7 @@ import pytest
 
 from masonrydem.analysis import accuracy, statistics as analysis, validation
 from masonrydem.report import captions, figures, landing
-from masonrydem.specimen.scene import build_scene
+from masonrydem.scene import build_scene
 from masonrydem.study.sampling import sampling_check
 
 REPORT = Path(__file__).parent.parent / "workflow" / "report"
@@ -51,10 +51,10 @@ def test_hard_cases_count_the_runs_that_miss_their_mode():
                               ratio_at_peak=[0.3, 0.2], unbalance_at_peak=[0.01234, 0.002],
                               post_peak=["quasi-static", "dynamic"],
                               half_rate_change_pct=[np.nan, 1.0]))
-    values = captions.hard_cases(table)
+    values = captions.hard_cases(table, 0.01)
     assert (values["n"], values["unmet"]) == (2, 2)
     text = fill("hard_cases", values)
-    assert "2 of 2 runs miss their expected mode" in text
+    assert "2 of 2 runs miss their expected mode" in text and "near equilibrium,\nbelow 0.01)" in text
     assert ("- x: load_drop, **P_max 10.000 kN**, brick failure (expected: joint, NOT MET), 1000 steps, "
             "load unbalanced by 0.0123 at the peak, post-peak quasi-static\n") in text
     assert "- x_half_rate: step_limit," in text and "post-peak dynamic, +1.00 % against x" in text

@@ -9,12 +9,12 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from masonrydem import InputError
+from masonrydem.errors import InputError
 from masonrydem.pipeline import check
 from masonrydem.analysis import equations, predict
 from masonrydem.specimen import protocol, build as specimen
-from masonrydem.specimen.scene import build_scene
-from masonrydem.specimen.size import model_size
+from masonrydem.scene import build_scene
+from masonrydem.scene import model_size
 
 WILLIS = "config/scenes/willis.yaml"
 
@@ -186,7 +186,6 @@ def test_predict_builds_the_wallette_of_the_brick_it_is_given():
     as built (6 H + 5 t), its thickness W and its shear span 1.1458 (L + t)
     (config/scenes/geometry.yaml); a scene that gives its section and
     absolute spans keeps them."""
-    from masonrydem.specimen.files import read_scene
     geometry = "config/scenes/geometry.yaml"
     p = {"inputs": {"L": dict(unit="m", shown="mm", setting="geometry.unit.length"),
                     "H": dict(unit="m", shown="mm", setting="geometry.unit.height"),
@@ -195,8 +194,7 @@ def test_predict_builds_the_wallette_of_the_brick_it_is_given():
                     "f_tj": dict(unit="Pa", shown="MPa", setting="materials.joints.ft")}}
     x = dict(L=215.0, H=65.0, W=102.5, t=10.0, f_tj=0.3)        # the UK brick
     for scene, b, a in ((geometry, 6 * 0.065 + 5 * 0.010, 275 / 240 * 0.225), (WILLIS, 0.44, 0.275)):
-        raw = read_scene(scene).get("loading", {}).get("bending", {})
-        p["wallette"] = predict.build({}, pd.DataFrame(), build_scene(scene), "s", {}, {}, "v", {}, raw)["wallette"]
+        p["wallette"] = predict.build({}, pd.DataFrame(), build_scene(scene), "s", {}, {}, "v", {})["wallette"]
         w = predict.wallette_at(p, x)
         assert w["section_height_m"] == pytest.approx(b, rel=1e-12) and w["shear_span_m"] == pytest.approx(a, rel=1e-12)
         assert w["thickness_m"] == pytest.approx(0.1025) and w["unit_mm"] == pytest.approx([215.0, 65.0, 102.5])

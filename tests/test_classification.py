@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from runs import run_scene
 
-from masonrydem.specimen.scene import build_scene
-from masonrydem.dem.solver import Numerics
+from masonrydem.scene import build_scene
+from masonrydem.dem import Numerics
 
 # the quasi-static integration these tests were written at (local damping 0.8)
 QS = Numerics(damping=0.8, safety=0.9)
@@ -88,7 +88,7 @@ TINY = ["geometry.courses=2", "geometry.units_per_course=2", "loading.bending.su
 def _constructed(blocks, cells="[3, 2, 2]"):
     """A 2 x 2 wallette with the given unit model, at rest: its specimen
     and a state whose damage fields the tests write."""
-    from masonrydem.dem.solver import init
+    from masonrydem.dem import init
     from masonrydem.specimen.build import build
     sp = build(build_scene(WILLIS, TINY + [f"physics.blocks={blocks}", f"numerics.cells={cells}"]))
     return sp, init(sp.assembly, QS)

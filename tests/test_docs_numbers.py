@@ -19,7 +19,7 @@ DOCS = {p.relative_to(ROOT).as_posix(): p.read_text() for p in sorted((ROOT / "d
 PAGES = {"README.md": README, **DOCS}
 CONFIG = yaml.safe_load((ROOT / "config/config.yaml").read_text())
 STUDY = yaml.safe_load((ROOT / CONFIG["study"]["file"]).read_text())
-SCHEMA = yaml.safe_load((ROOT / "src/masonrydem/specimen/scene_schema.yaml").read_text())
+SCHEMA = yaml.safe_load((ROOT / "src/masonrydem/scene/schema.yaml").read_text())
 RESULTS = ROOT / "results"
 
 

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 from numba import njit
 
-from masonrydem import Elastic, Model
+from masonrydem.dem import Elastic, Model
 from masonrydem.dem.elements import cell_stiffness, elasticity
 from masonrydem.dem.kernels import layout as L
 from masonrydem.dem.kernels.zones import zone_forces
-from masonrydem.dem.solver import Numerics, init, max_rotation, prescribe
+from masonrydem.dem import Numerics, init, max_rotation, prescribe
 from masonrydem.dem.stops import Stops, run
 
 # the quasi-static integration these tests were written at (local damping 0.8)

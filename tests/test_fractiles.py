@@ -94,3 +94,16 @@ def test_the_lower_bound_is_the_published_tolerance_limit(n, k):
     est, lo, _ = F.lognormal_fractile(np.exp(y), confidence=0.90)
     assert lo == pytest.approx(np.exp(ybar - k * s), rel=2e-3 * s)
     assert est == pytest.approx(np.exp(ybar - 1.6448536269514722 * s), rel=1e-12)     # Phi^-1(0.95)
+
+
+def test_the_runs_a_lower_end_needs_by_its_closed_form():
+    """needs.lower_end_runs, (1 - p)^n <= (1 - confidence) / 2 (what
+    `masonrydem check` reports before anything runs), is the first n at
+    which order_ranks gives the fractile's interval a lower rank: 72 runs
+    for the 5 % fractile at 95 %."""
+    from masonrydem.analysis.fractiles import order_ranks
+    from masonrydem.analysis.needs import lower_end_runs
+    assert lower_end_runs() == 72
+    for p, conf in ((0.05, 0.95), (0.05, 0.90), (0.10, 0.95), (0.01, 0.95)):
+        n = lower_end_runs(p, conf)
+        assert order_ranks(n, p, conf)[0] == 1 and order_ranks(n - 1, p, conf)[0] is None, (p, conf)

@@ -2,8 +2,8 @@
 so that a scene with other bricks or courses gets its own strength."""
 import pytest
 
-from masonrydem.specimen.files import read_scene
-from masonrydem.specimen.scene import validate_scene
+from masonrydem.scene import read_scene
+from masonrydem.scene import validate_scene
 from masonrydem.specimen.build import build
 
 WILLIS = "config/scenes/willis.yaml"
@@ -89,7 +89,7 @@ def test_spans_in_unit_lengths_scale_with_the_brick():
     ((("shear_span", 0.6), ("load_span", 0.26)), "loading.bending.supports_x.0"),   # beyond the wall
 ])
 def test_spans_refused_when_incomplete_doubled_or_too_long(changes, field):
-    from masonrydem import InputError
+    from masonrydem.errors import InputError
     with pytest.raises(InputError) as e:
         _spans(*changes)
     assert e.value.field == field

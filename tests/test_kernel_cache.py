@@ -1,11 +1,11 @@
 """numba's kernel cache shared by processes that fill it at once
-(pipeline.kernel_cache.lock, docs/known-problems.md): a constructed race."""
+(dem/kernels/jit.py, lock_cache; docs/known-problems.md): a constructed race."""
 import multiprocessing
 import time
 
 from numba.core import caching
 
-from masonrydem.pipeline.kernel_cache import lock as lock_kernel_cache
+from masonrydem.dem import lock_kernel_cache
 
 
 def _save(folder, key, data, slow):
@@ -58,12 +58,12 @@ def test_every_kernel_is_cached_under_the_stamp_of_the_whole_kernels_package():
 
     folder = Path(advance.__file__).parent
     stamp = hashlib.sha256(b"".join(p.name.encode() + p.read_bytes() for p in sorted(folder.glob("*.py")))).hexdigest()
-    impl = caching.CompileResultCacheImpl(advance._advance_nodes.py_func)
+    impl = caching.CompileResultCacheImpl(advance.advance_nodes.py_func)
     assert type(impl._locator).__name__.startswith("Package"), (numba.__version__, type(impl._locator))
     assert impl._locator.get_source_stamp() == stamp
     outside = caching.CompileResultCacheImpl(_save)
     assert not type(outside._locator).__name__.startswith("Package")
-    assert kernels.config.SLP_VECTORIZE == 1
+    assert kernels.jit.config.SLP_VECTORIZE == 1
 
 
 def test_numba_is_in_the_range_whose_private_interface_the_package_reads():
@@ -81,3 +81,7 @@ def test_numba_is_in_the_range_whose_private_interface_the_package_reads():
     for name in ("CacheImpl", "CompileResultCacheImpl", "UserProvidedCacheLocator", "InTreeCacheLocator", "IndexDataCacheFile"):
         assert hasattr(caching, name), f"numba {numba.__version__} has no numba.core.caching.{name}"
     assert isinstance(caching.CacheImpl._locator_classes, list)
+    # the private parts (numba's cache internals) are read in one module: dem/kernels/jit.py
+    src = Path(__file__).parents[1] / "src" / "masonrydem"
+    readers = {p.relative_to(src).as_posix() for p in src.rglob("*.py") if "caching" in p.read_text()}
+    assert readers == {"dem/kernels/jit.py"}, readers

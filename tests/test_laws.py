@@ -6,12 +6,15 @@ import math
 import numpy as np
 import pytest
 
-from masonrydem import InputError, JointProps, MohrCoulomb
+from masonrydem.dem import JointProps, MohrCoulomb
+from masonrydem.errors import InputError
 from masonrydem.dem import kernels as K
 from masonrydem.dem.kernels.joint_laws import _JOINT_LAWS
 from masonrydem.dem.kernels.zones import mohr_coulomb_elastic, zone_mohr_coulomb
-from masonrydem.dem.laws import BLOCK_MODELS, JOINT_LAWS
-from masonrydem.specimen.scene import SCHEMA
+from masonrydem.dem.laws import JOINT_LAWS
+from masonrydem.scene import BLOCK_MODELS
+from masonrydem.specimen.build import MATERIALS
+from masonrydem.scene import SCHEMA
 
 pytestmark = pytest.mark.verification
 
@@ -142,11 +145,14 @@ def test_elastic_precheck_never_passes_a_yielding_stress():
 
 
 def test_law_tables_drive_the_scene_schema_and_validation():
-    """The scene's choices of physics are the tables' names, and a law
+    """The scene's choices of physics are the tables' names (the scene
+    lists the solver's joint laws by name, in the solver's order; every
+    block model's material is one the specimen builder maps), and a law
     validates exactly the fields its table entry names: the friction law
     ignores the tensile strength, the coupled one needs G_I for it."""
     phys = SCHEMA["properties"]["physics"]["properties"]
     assert phys["joints"]["enum"] == list(JOINT_LAWS) and phys["blocks"]["enum"] == list(BLOCK_MODELS)
+    assert {m.material for m in BLOCK_MODELS.values()} == set(MATERIALS)
     p = JointProps(kn=1e10, ks=4e9, ft=0.3e6, c=0.36e6, phi=35.0)
     p.validate("j", "friction")
     with pytest.raises(InputError, match="j.GI"):

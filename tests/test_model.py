@@ -3,10 +3,11 @@ refused before any computation, the divergence guard."""
 import numpy as np
 import pytest
 
-from masonrydem import Elastic, InputError, JointProps, Model, MohrCoulomb
+from masonrydem.dem import Elastic, JointProps, Model, MohrCoulomb
+from masonrydem.errors import InputError
 from masonrydem.dem import kernels as K
-from masonrydem.specimen.scene import build_scene
-from masonrydem.dem.solver import Controls, Numerics, init
+from masonrydem.scene import build_scene
+from masonrydem.dem import Controls, Numerics, init
 from masonrydem.specimen.build import build
 from masonrydem.dem.stops import Stops, run
 

@@ -7,15 +7,15 @@ import math
 import numpy as np
 import pytest
 
-from masonrydem import Elastic, JointProps, Model
+from masonrydem.dem import Elastic, JointProps, Model
 from masonrydem.dem import kernels as K
 from masonrydem.dem.blocks import simpson, trapezoid
 from masonrydem.dem.kernels.joint_laws import joint_bearing, joint_coupled, joint_coupled_additive, joint_coupled_total_slip
 from masonrydem.dem.mesh import cofactors, det3
 from masonrydem.dem.lockstep import drive
 from masonrydem.specimen.protocol import precompress
-from masonrydem.specimen.scene import build_scene
-from masonrydem.dem.solver import Numerics, init
+from masonrydem.scene import build_scene
+from masonrydem.dem import Numerics, init
 from masonrydem.specimen.build import build
 from masonrydem.dem.stops import Stops, run
 from specimens import block_nodes, shear_joint, two_blocks, work

@@ -4,7 +4,7 @@ project's own config."""
 import pytest
 import yaml
 
-from masonrydem import InputError
+from masonrydem.errors import InputError
 from masonrydem.pipeline.check import check_config
 from masonrydem.pipeline import plan
 
@@ -167,6 +167,10 @@ def test_the_config_overrides_the_study_files_samples_seed_and_levels():
     with pytest.raises(InputError) as e:
         plan.study({"study": {"file": "config/studies/willis.yaml", "levels": [0.15]}})
     assert e.value.field == "study.levels.0" and "did you mean '0.15 MPa'?" in str(e.value)
+    # a level given twice in other words would make two runs folders of one level: refused
+    with pytest.raises(InputError) as e:
+        plan.study({"study": {"file": "config/studies/willis.yaml", "levels": ["0 MPa", "0.1 N/mm2", "100 kPa"]}})
+    assert e.value.field == "study.levels.2" and "is the level '0.1 N/mm2' (study.levels.1) again" in str(e.value)
 
 
 def test_the_projects_config_plans_its_accuracy_study():
@@ -179,20 +183,20 @@ def test_the_projects_config_plans_its_accuracy_study():
     the damping pinned (0.8): the references (the path levels and the runs
     around one, 45) are the same computation whatever the defaults, and
     the coarsest level of each case is rerun to check their table."""
-    from masonrydem.specimen.scene import build_scene
+    from masonrydem.scene import build_scene
     config = yaml.safe_load(open("config/config.yaml"))
     runs = plan.accuracy_runs(config)
     assert len(runs) == 181 and len(set(runs)) == 181
     knee = build_scene(config["scene"], plan.accuracy_overrides(config, "mixed_sv05", "pc_c4x3x2_head_rate15"))
-    assert knee.numerics.damping == 0.4 and knee.loading.drive.rate == 1.125e-7
+    assert knee.integration.damping == 0.4 and knee.loading.drive.rate == 1.125e-7
     former = build_scene(config["scene"], plan.accuracy_overrides(config, "mixed_sv05", "pc_c4x3x2_head_d08_half"))
-    assert former.numerics.damping == 0.8 and former.loading.drive.rate == 3.75e-8
+    assert former.integration.damping == 0.8 and former.loading.drive.rate == 3.75e-8
     references = plan.reference_runs(config)
     assert len(references) == 45 and set(references) <= set(runs)
     assert all(s.startswith("path_") for c, s in references)
     assert plan.reference_checks(config) == [(c, "path_c7x3x2") for c in plan.accuracy_cases(config)]
     for case, setting in references:
-        assert build_scene(config["scene"], plan.accuracy_overrides(config, case, setting)).numerics.damping == 0.8
+        assert build_scene(config["scene"], plan.accuracy_overrides(config, case, setting)).integration.damping == 0.8
     assert {s for c, s in runs if c == "joint_sv0"} >= {"path_c17x8x6", "pc_c6x3x2_r121", "default", "rate_1.5e-07"}
     assert ("joint_sv05", "ratio_tol_1e-05") in runs and ("joint_sv0", "ratio_tol_1e-05") not in runs
     joint = build_scene(config["scene"], plan.accuracy_overrides(config, "joint_sv0", "path_c17x8x6"))

@@ -9,7 +9,7 @@ from scipy.integrate import trapezoid
 
 from masonrydem.dem import kernels as K
 from masonrydem.specimen.protocol import simulate
-from masonrydem.specimen.scene import build_scene
+from masonrydem.scene import build_scene
 from masonrydem.specimen.build import build
 
 WILLIS = "config/scenes/willis.yaml"

@@ -9,10 +9,11 @@ import math
 import numpy as np
 import pytest
 
-from masonrydem import Elastic, InputError, JointProps, Model
+from masonrydem.dem import Elastic, JointProps, Model
+from masonrydem.errors import InputError
 from masonrydem.dem import kernels as K
-from masonrydem.specimen.scene import build_scene
-from masonrydem.dem.solver import Controls, Numerics, advance, init
+from masonrydem.scene import build_scene
+from masonrydem.dem import Controls, Numerics, advance, init
 from masonrydem.specimen.build import build
 
 # the quasi-static integration these tests were written at (local damping 0.8)

@@ -52,7 +52,7 @@ def test_first_masonrydem_run_gives_the_studys_reference(tmp_path):
     # and a strength a wallette of these materials can have: above its
     # joints' tensile strength (a bed joint's alone, cracking in bending)
     # and below its units' (sigma = 6 M / (b h^2) of the units themselves)
-    from masonrydem.specimen.scene import build_scene
+    from masonrydem.scene import build_scene
     mat = build_scene(ROOT / "config/scenes/willis.yaml").materials
     assert float(mat.joints.ft.mean()) < row["strength_mpa"] * 1e6 < float(mat.units.ft.mean())
 

@@ -6,10 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from masonrydem import Elastic, InputError, JointProps, Model
+from masonrydem.dem import Elastic, JointProps, Model
+from masonrydem.errors import InputError
 from masonrydem.dem import kernels as K
 from masonrydem.dem.kernels.joint_laws import joint_friction
-from masonrydem.dem.solver import Numerics, init, max_rotation, prescribe_rotation
+from masonrydem.dem import Numerics, init, max_rotation, prescribe_rotation
 from masonrydem.dem.stops import Stops, run
 
 # the quasi-static integration these tests were written at (local damping 0.8)

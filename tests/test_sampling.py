@@ -119,7 +119,7 @@ def test_refining_the_correlation_only_reorders():
 
 
 def _field_study(length, n, rho=0.5):
-    from masonrydem.specimen.masonry import Geometry
+    from masonrydem.scene import Geometry
     from masonrydem.study.sampling import Variable, field_samples
     g = Geometry(0.230, 0.065, 0.114, 0.010, 6, 4, 0.5)
     normal = (Variable("a", "normal", 10.0, sd=2.0, per="unit"), Variable("b", "normal", 5.0, sd=1.0, per="unit"),
@@ -170,7 +170,7 @@ def test_item_centres_follow_the_numbering_of_units_and_joints():
     """Units course by course; the first head joint between units 0 and 1
     of course 0; the first bed plane under unit (1, 0), at the top of
     course 0; course 1 shifted by half a modelled unit (0.12 m)."""
-    from masonrydem.specimen.masonry import Geometry
+    from masonrydem.scene import Geometry
     c = Geometry(0.230, 0.065, 0.114, 0.010, 6, 4, 0.5).item_centres()
     np.testing.assert_allclose(c["unit"][[0, 1, 4]], [[0.12, 0.0375], [0.36, 0.0375], [0.24, 0.1125]])
     np.testing.assert_allclose(c["joint"][0], [0.24, 0.0375])

@@ -4,10 +4,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from masonrydem import InputError
+from masonrydem.errors import InputError
 from masonrydem.dem import kernels as K
-from masonrydem.specimen.masonry import joint_kn
-from masonrydem.specimen.scene import build_scene, validate_scene
+from masonrydem.scene import joint_kn
+from masonrydem.scene import build_scene, validate_scene
 from masonrydem.specimen.build import build
 
 WILLIS = "config/scenes/willis.yaml"
@@ -153,7 +153,7 @@ def test_a_scene_without_numerics_runs_at_the_accuracy_studys_choice(tmp_path):
     del bare["loading"]["precompression"]["ratio_tol"]
     sc = build_scene(bare)
     assert sc.physics.blocks == "potential-crack"
-    assert sc.discretization == build_scene(WILLIS).discretization and sc.numerics == build_scene(WILLIS).numerics
+    assert sc.discretization == build_scene(WILLIS).discretization and sc.integration == build_scene(WILLIS).integration
     # what the accuracy study ran as its 'default' setting (config.yaml):
     # the candidate pc_c4x3x2_r1 is these cells with sub-contacts unrefined,
     # pc_c4x3x2_head_rate15 them at 1.5 times the rate, and the rates tried

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from runs import run_scene
 
-from masonrydem import InputError
-from masonrydem.specimen.masonry import joint_kn
-from masonrydem.specimen.scene import build_scene
+from masonrydem.errors import InputError
+from masonrydem.scene import joint_kn
+from masonrydem.scene import build_scene
 from masonrydem.analysis.validation import initial_stiffness
 
 TENSION = "config/scenes/tension.yaml"

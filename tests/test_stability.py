@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 import yaml
 
-from masonrydem import Elastic, Model
+from masonrydem.dem import Elastic, Model
 from masonrydem.dem import kernels as K
 from masonrydem.dem.assembly import Assembly
-from masonrydem.specimen.scene import build_scene
-from masonrydem.dem.solver import Controls, Numerics, advance, init
+from masonrydem.scene import build_scene
+from masonrydem.dem import Controls, Numerics, advance, init
 from masonrydem.dem.stops import run
 
 # the quasi-static integration these tests were written at (local damping 0.8)
@@ -109,7 +109,7 @@ def test_scaled_masses_per_component_keep_the_step_stable():
     elastic joints of different stiffness through flat cells; the bound
     must hold and be reasonably tight (above 0.3 of it), and the masses
     must differ between components (the flat cells are stiffer across)."""
-    from masonrydem import JointProps
+    from masonrydem.dem import JointProps
     m = Model()
     m.add_box([0, 0, 0], [0.2, 0.1, 0.05], (2, 1, 3), Elastic(10e9, 0.2))
     m.add_box([0, 0, 0.05], [0.2, 0.1, 0.1], (2, 2, 3), Elastic(20e9, 0.2), element="hex8i")
@@ -218,7 +218,7 @@ SYMMETRIC = ["geometry.bond_offset=0.0", "loading.bending.supports_x=[0.075, 0.8
 def _run(overrides):
     os.environ["NUMBA_NUM_THREADS"] = "1"
     from runs import run_scene
-    from masonrydem.specimen.scene import build_scene
+    from masonrydem.scene import build_scene
     row, curve, specimen, state = run_scene(build_scene(WILLIS, CONFIG["numerics"] + overrides))
     a = specimen.assembly
     supports = a.strip_nodes[[st.index for st in a.strips if st.name.startswith("support")]]   # the supports' nodes

@@ -4,9 +4,9 @@ scene setting that asks for it."""
 import numpy as np
 import pytest
 
-from masonrydem import InputError
+from masonrydem.errors import InputError
 from masonrydem.dem.history import PEAK_UNBALANCE, History, Peak
-from masonrydem.specimen.scene import build_scene
+from masonrydem.scene import build_scene
 from masonrydem.dem.stops import Stops, stop_rule
 
 PEAK = Peak(load=10e3, disp=1.0e-3, step=1000, ratio=0.0, unbalance=0.0)

@@ -4,9 +4,9 @@ import pytest
 
 from masonrydem.dem import kernels as K
 from masonrydem.study.sampling import study_samples
-from masonrydem.specimen.masonry import joint_kn
+from masonrydem.scene import joint_kn
 from masonrydem.specimen.build import build
-from masonrydem.specimen.scene import build_scene
+from masonrydem.scene import build_scene
 from masonrydem.study.settings import record, settings
 
 # the source paper's elasto-plastic units, whose zones carry the unit's properties

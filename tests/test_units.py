@@ -11,9 +11,9 @@ import sys
 import numpy as np
 import pytest
 
-from masonrydem import InputError
-from masonrydem.specimen.files import apply_overrides, read_scene
-from masonrydem.specimen.scene import validate_scene
+from masonrydem.errors import InputError
+from masonrydem.scene import apply_overrides, read_scene
+from masonrydem.scene import validate_scene
 
 WILLIS = "config/scenes/willis.yaml"
 
@@ -189,8 +189,8 @@ def test_the_command_line_refuses_a_unit_slip_with_exit_2_before_running(tmp_pat
 def test_the_schema_names_a_unit_and_range_for_every_physical_field():
     """Every number with a physical dimension has its unit and plausible
     range (the dimensionless ones are bounded by the schema itself)."""
-    from masonrydem.specimen.quantities import _nodes
-    from masonrydem.specimen.scene import SCHEMA
+    from masonrydem.scene.quantities import _nodes
+    from masonrydem.scene import SCHEMA
     scene = _raw()
     validate_scene(scene)                     # fills in every default, in place
     physical = {"E", "ft", "phi", "psi", "Gf", "density", "GI", "length", "height", "width", "joint_thickness",
@@ -208,5 +208,5 @@ def test_the_schema_names_a_unit_and_range_for_every_physical_field():
 def test_engineering_spellings_of_a_stress(text):
     """A stress as engineers write it reads as 0.35 MPa does, to the last
     digit (pint's decimal arithmetic: 0.35e6 exactly)."""
-    from masonrydem.specimen.quantities import to_si
+    from masonrydem.scene import to_si
     assert to_si(text, "Pa", "f") == to_si("0.35 MPa", "Pa", "f") == 0.35e6

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from scipy.spatial import Delaunay
 
-from masonrydem import Elastic, JointProps, Model, MohrCoulomb
+from masonrydem.dem import Elastic, JointProps, Model, MohrCoulomb
 from masonrydem.dem import kernels as K
-from masonrydem.dem.solver import Numerics, init, prescribe
+from masonrydem.dem import Numerics, init, prescribe
 from masonrydem.dem.stops import Stops, run
 from specimens import block_nodes, pull_joint, shear_joint, work
 

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from masonrydem.dem import kernels as K
-from masonrydem.specimen.scene import build_scene
-from masonrydem.dem.solver import Numerics, init
+from masonrydem.scene import build_scene
+from masonrydem.dem import Numerics, init
 from masonrydem.specimen.build import build
 
 # the quasi-static integration these tests were written at (local damping 0.8)

@@ -300,18 +300,17 @@ def test_a_simulation_that_raises_is_recorded(tmp_path):
     job's row, with status 'error', ok False and the refusal naming the
     field, the sample's inputs, and an empty curve (the statistics exclude
     and count such rows: tests/test_analysis.py)."""
+    from dataclasses import replace
+
+    from masonrydem.pipeline import plan
     from masonrydem.specimen.row import write_json
-    from masonrydem.study.file import load_study
-    from masonrydem.study.sampling import records, wallette_samples
-    from masonrydem.study.settings import record
     smoke = yaml.safe_load(open("config/smoke.yaml"))["study"]
-    study = load_study("config/studies/willis.yaml")
+    drawn = plan.study({"study": {"file": "config/studies/willis.yaml", **smoke}}).draw("nonspatial")
+    nonspatial = drawn.table.copy()          # the study's draw, its first sample's bond made negative
+    nonspatial.loc[nonspatial["sample"] == 0, "f_tj"] = -1e5
     root = tmp_path / "results"
     (root / "study").mkdir(parents=True)
-    nonspatial, _ = wallette_samples(smoke["samples"], smoke["seed"], study.variables, study.correlations)
-    nonspatial.loc[nonspatial["sample"] == 0, "f_tj"] = -1e5
-    write_json(root / "study" / "samples_nonspatial.json",
-               [record(r, "wallette", study.variables, study.rules) for r in records(nonspatial)])
+    write_json(root / "study" / "samples_nonspatial.json", replace(drawn, table=nonspatial).records())
     target = root / "study" / "runs" / "nonspatial" / "sigma_v0.0" / "s0" / "result.json"
     r = subprocess.run(SNAKEMAKE + [str(target), "--cores", "1", "--allowed-rules", "simulate_0", "--configfile",
                                     "config/smoke.yaml", "--config", f"results={root}"], capture_output=True, text=True)
@@ -598,10 +597,11 @@ def test_the_sensitivity_rule_produces_the_indices_of_a_known_law(tmp_path):
     0.9375^2), S = 16 x 0.0144 : 0.25 x 0.8789 = 0.512 : 0.488; f_tu is
     correlated with E_b but comes first in the study file, so it carries
     the full index and E_b none; phi_j none."""
+    from dataclasses import replace
+
     from masonrydem.study.file import load_study
-    from masonrydem.study.sampling import wallette_samples
-    study = load_study("config/studies/willis.yaml")
-    table, _ = wallette_samples(30, 3, study.variables, study.correlations)
+    study = replace(load_study("config/studies/willis.yaml"), samples=30, seed=3)
+    table = study.draw("nonspatial").table
     (tmp_path / "study").mkdir()
     cols = study.columns()
     runs = pd.DataFrame([{"variant": "nonspatial", "sample": r["sample"], "sigma_v_mpa": sv, "ok": True,

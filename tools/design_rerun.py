@@ -26,8 +26,6 @@ import yaml
 from masonrydem.analysis import design, fractiles
 from masonrydem.cli import main as cli
 from masonrydem.pipeline import plan
-from masonrydem.study.sampling import records, study_samples
-from masonrydem.study.settings import record
 
 RERUN_SEED = 7      # the fresh studies' samples: another seed than the study's
 
@@ -61,11 +59,11 @@ def main(configs):
     for q, b in picks.items():
         variables = tuple(replace(v, mean=float(boots[v.name][0][b]), cov=float(boots[v.name][1][b]))
                           if v.name in lab else v for v in study.variables)
-        wallettes, _, _ = study_samples(study.samples, RERUN_SEED, 1, 1, variables, study.correlations)
+        drawn = replace(study, variables=variables, seed=RERUN_SEED,
+                        variants={"rerun": {"draw": "wallette", "correlation_length": None}}).draw("rerun")
         folder = out / "rerun" / f"q{q:g}"
         folder.mkdir(parents=True, exist_ok=True)
-        (folder / "samples.json").write_text(json.dumps([record(r, "wallette", variables, study.rules)
-                                                         for r in records(wallettes)]))
+        (folder / "samples.json").write_text(json.dumps(drawn.records()))
         for lv, si in zip(sorted(weights), study.levels):
             for s in range(study.samples):
                 jobs.append((q, b, lv, ["run", study.scene, "--samples", str(folder / "samples.json"), "--sample",

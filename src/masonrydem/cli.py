@@ -40,14 +40,23 @@ import time
 import traceback
 from pathlib import Path
 
-from . import __version__
+import yaml
+
 from .errors import InputError
+from .pipeline.check import explained, is_study, study_summary, summary
+from .scene import build_scene, setting_unit, to_si
+from .sources import __version__
+from .study import load_study
+
+# The solver (dem, specimen) and the analysis are imported inside the
+# commands that need them: `check` and `predict` load no compiler and no
+# scikit-learn (docs/architecture.md).
 
 
 def check_threads(n):
     """``--threads``: between 1 and the cores numba may use."""
-    import numba
-    cores = numba.config.NUMBA_NUM_THREADS
+    from .dem import max_threads
+    cores = max_threads()
     if not 1 <= n <= cores:
         raise InputError("--threads", f"must be between 1 and {cores} (the cores of this machine), got {n}")
     return n
@@ -93,7 +102,6 @@ def scenes_of(args):
     overrides, then each --sample's settings.  A sample the scene refuses
     gives the scene without the sample and the refusal: the job records it
     as a run with status 'error'."""
-    from .specimen.scene import build_scene
     overrides = list(args.set) + (["outputs.state=true"] if args.state else [])
     if args.samples is None:
         if args.sample or args.variant is not None:
@@ -120,8 +128,6 @@ def scenes_of(args):
 def _run(args):
     """``run``: one scene, or a batch of a study's samples."""
     check_threads(args.threads)
-    from .pipeline.kernel_cache import lock
-    lock()
     if args.lanes < 1:
         raise InputError("--lanes", f"must be at least 1, got {args.lanes}")
     runs = scenes_of(args)
@@ -132,8 +138,8 @@ def _run(args):
                                   "run's number goes (runs/s{sample})")
     else:
         outs = [output_dir(args.out.replace("{sample}", str(sample["sample"]))) for _, sample, _ in runs]
-    import numba
-    numba.set_num_threads(args.threads)
+    from .dem import set_threads
+    set_threads(args.threads)
     startup = time.time() - _process_start()
     if args.samples is None:
         return _run_one(args, runs[0][0], outs[0], startup)
@@ -246,10 +252,7 @@ def _process_start():
 def _check(args):
     """``check``: a scene or a study file validated and described; nothing
     built, drawn or run."""
-    from .pipeline.check import is_study, study_summary, summary
-    from .specimen.scene import build_scene
     if is_study(args.scene):
-        from .study.file import load_study
         if args.set:
             raise InputError("--set", "changes a scene's settings; a study file's are its own: edit the file")
         print("\n".join(study_summary(load_study(args.scene))))
@@ -269,7 +272,6 @@ def _predict(args):
         inputs[name.strip()] = value
     scene = None
     if args.scene:
-        from .specimen.scene import build_scene
         scene = build_scene(args.scene)
     print("\n".join(predict(args.predictor, {n: n for n in inputs}, scene, **inputs).lines()))
     return 0
@@ -279,18 +281,14 @@ def _fit(args):
     """``fit``: a lab sheet's statistics, fits and characteristic values
     (as YAML comments), and with --name and --setting the study file's
     variable block they give (YAML on stdout)."""
-    import yaml
-
     from .analysis import labfit, labsheet
-    from .specimen.quantities import to_si
-    from .specimen.scene import setting_unit
     if bool(args.name) != bool(args.setting):
         given, missing = ("--name", "--setting") if args.name else ("--setting", "--name")
         raise InputError(missing, f"the study file's block needs both --name and --setting; {given} alone is "
                                   f"given (without either, fit prints the sheet's statistics alone)")
     unit = setting_unit(args.setting) if args.setting else "Pa"
     if unit is None:
-        raise InputError("--setting", f"{args.setting!r} is not a numeric setting of a scene (scene_schema.yaml)")
+        raise InputError("--setting", f"{args.setting!r} is not a numeric setting of a scene (scene/schema.yaml)")
     if args.resamples < 99:
         raise InputError("--resamples", f"{args.resamples}: at least 99 for a p-value to 0.01")
     depth = to_si(args.depth, "m", "--depth") if args.depth is not None else None
@@ -383,7 +381,6 @@ def main(argv=None):
     try:
         return _run(args) if args.command == "run" else COMMANDS[args.command](args)
     except InputError as e:
-        from .pipeline.check import explained
         print(f"masonrydem: invalid input: {explained(e)}", file=sys.stderr)
         return 2
     except Exception:

@@ -85,7 +85,7 @@ rule sensitivity:
     params:
         code=get_code("sensitivity"),
         analysis=plan.analysis(config),
-        design=get_study_design(),
+        draw=get_study_draw(),
         seed=plan.study(config).seed,
     log:
         f"{R}/logs/study/sensitivity.log",

@@ -1,4 +1,3 @@
-import dataclasses
 import shlex
 import sys
 import os
@@ -7,7 +6,8 @@ from pathlib import Path
 import yaml
 from snakemake.utils import update_config, validate
 
-import masonrydem
+from masonrydem.errors import InputError
+from masonrydem.sources import source_hash
 from masonrydem.pipeline import plan
 from masonrydem.pipeline.check import check_config
 from masonrydem.pipeline.plan import reference_checks, reference_runs
@@ -40,7 +40,7 @@ validate(config, "../../config/schema.yaml", set_default=True)
 # study file's mistakes, NaN or infinite values, overrides the scene refuses)
 try:
     check_config(config)
-except masonrydem.InputError as e:
+except InputError as e:
     print(f"masonrydem: invalid input: {e}", file=sys.stderr)
     sys.exit(2)
 R = config["results"]  # root of every output (config/smoke.yaml: .test/results)
@@ -68,7 +68,7 @@ def get_template(name):
 def get_solver_hash():
     """Hash of the solver's source: a param of every simulation rule, so that
     a change to src/ reruns the simulations (Snakemake does not track it)."""
-    return masonrydem.source_hash()
+    return source_hash()
 
 
 def get_python(wildcards, input):
@@ -194,17 +194,13 @@ def get_study_scene():
     return plan.study(config).scene
 
 
-def get_study_design():
-    """What decides the samples and their settings, all the sample rule
-    reads (it never loads the study file or the scene, so that its code
-    holds nothing of the solver): the study's number of samples, seed,
-    variables, correlations, variants and rules, and the wallette's units
-    and joints (their counts and where each sits: the fields' distances).
-    Not its levels: a change of the levels must not redraw the samples."""
-    s = plan.study(config)
-    return dict(samples=s.samples, seed=s.seed, variables=[dataclasses.asdict(v) for v in s.variables],
-                correlations=[[a, b, rho] for (a, b), rho in s.correlations.items()], variants=s.variants,
-                rules=s.rules, items=plan.study_items(config))
+def get_study_draw():
+    """What decides the study's samples, as its draw key (Study.draw_key:
+    the samples, seed, variables, correlations, variants, rules and the
+    wallette's units and joints), never its levels: a change of the levels
+    must not redraw the samples.  The rules that draw read the study
+    themselves (plan.study)."""
+    return plan.study(config).draw_key()
 
 
 def get_study_settings():

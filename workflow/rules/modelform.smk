@@ -56,6 +56,7 @@ rule tornado:
         figure=item(f"{R}/modelform/tornado.png", "modelform", "Model form", "Change of P_max by modelling option"),
     params:
         code=get_code("tornado"),
+        titles={a["name"]: a["title"] for a in (config.get("modelform") or {}).get("assumptions", []) if "title" in a},
     log:
         f"{R}/logs/modelform/tornado.log",
     conda:

@@ -83,7 +83,7 @@ def get_runs(sets, runs, *extra, scene=None):
 def get_study_runs_key():
     """get_runs of the study: every level's settings and the samples' seed
     (their number is in the list of inputs)."""
-    return get_runs(get_study_sets, [dict(level=d) for d in plan.study_level_dirs(config)], repr(get_study_design()),
+    return get_runs(get_study_sets, [dict(level=d) for d in plan.study_level_dirs(config)], get_study_draw(),
                     scene=get_study_scene())
 
 

@@ -13,7 +13,7 @@ if SOBOL:
         output:
             samples=f"{R}/sobol_check/samples.json",
         params:
-            design=get_study_design(),
+            draw=get_study_draw(),
             check={k: SOBOL[k] for k in ("base", "seed")},
             code=get_code("sobol_check_sample"),
         log:
@@ -69,7 +69,7 @@ if SOBOL:
             caption=get_caption_file("sobol_check"),
         params:
             code=get_code("sobol_check"),
-            simulations=get_runs(lambda w: get_level_sets(SOBOL["level_dir"]), [{}], repr(get_study_design()),
+            simulations=get_runs(lambda w: get_level_sets(SOBOL["level_dir"]), [{}], get_study_draw(),
                                  repr({k: SOBOL[k] for k in ("base", "seed")}), scene=get_study_scene()),
             check=SOBOL,
             analysis=plan.analysis(config),

@@ -11,7 +11,7 @@ rule sample:
     params:
         # only what sampling reads: a change of any other study setting
         # (levels, curve points) must not redraw the samples
-        design=get_study_design(),
+        draw=get_study_draw(),
         variants=plan.study_variants(config),
         code=get_code("sample"),
     log:
@@ -31,7 +31,7 @@ rule sampling_check:
         check=f"{R}/study/sampling_check.csv",
         caption=get_caption_file("sampling_check"),
     params:
-        design=get_study_design(),
+        draw=get_study_draw(),
         code=get_code("sampling_check"),
     log:
         f"{R}/logs/study/sampling_check.log",

@@ -9,7 +9,7 @@ import pyvista as pv  # noqa: E402
 
 from masonrydem.report.figures import PICTURE_WINDOW  # noqa: E402
 from masonrydem.report.pictures import picture_damage  # noqa: E402
-from masonrydem.specimen.scene import build_scene  # noqa: E402
+from masonrydem.scene import build_scene  # noqa: E402
 
 row = pd.read_parquet(sm.input.result).iloc[0]
 title = (f"{row['scene']}, sigma_v = {row['sigma_v_mpa']:.3g} MPa: P_max {row['P_max_kN']:.2f} kN, "

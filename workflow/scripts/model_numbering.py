@@ -5,7 +5,7 @@ sm = snakemake  # noqa: F821
 sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 from masonrydem.report.figures import PICTURE_WINDOW  # noqa: E402
-from masonrydem.specimen.scene import build_scene  # noqa: E402
+from masonrydem.scene import build_scene  # noqa: E402
 from masonrydem.specimen.build import build  # noqa: E402
 from masonrydem.report.pictures import picture_numbering  # noqa: E402
 

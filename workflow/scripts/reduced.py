@@ -8,7 +8,7 @@ import pandas as pd  # noqa: E402
 
 from masonrydem.report import captions  # noqa: E402
 from masonrydem.analysis.validation import reduced_table  # noqa: E402
-from masonrydem.specimen.scene import build_scene  # noqa: E402
+from masonrydem.scene import build_scene  # noqa: E402
 
 scenes = {tuple(run): build_scene(sm.input.scene, overrides) for run, overrides in zip(sm.params.runs,
                                                                                      sm.params.overrides)}

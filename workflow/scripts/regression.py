@@ -16,8 +16,7 @@ from masonrydem.analysis import validation as V  # noqa: E402
 from masonrydem.pipeline import plan  # noqa: E402
 from masonrydem.report import captions  # noqa: E402
 from masonrydem.report import figures as F  # noqa: E402
-from masonrydem.specimen.files import read_scene  # noqa: E402
-from masonrydem.specimen.scene import build_scene  # noqa: E402
+from masonrydem.scene import build_scene  # noqa: E402
 
 reg = sm.params.analysis          # the study file's terms, the inputs' columns, the sweep (plan.analysis)
 terms, columns, level, variant = tuple(reg["terms"]), reg["columns"], reg["level_column"], reg["regression_variant"]
@@ -34,7 +33,7 @@ scene = build_scene(sm.input.scene)
 with open(sm.output.predictor, "w") as f:       # masonrydem predict
     skipped = {r["mode"]: r["equation"] for r in rows if r["mode"] in ("joint", "brick") and r["mode"] not in fits}
     json.dump(predict.build(fits, ns, scene, f"its {len(ns)} ok {variant} runs", columns, reg["units"], variant,
-                            sm.params.settings, read_scene(sm.input.scene).get("loading", {}).get("bending", {}),
+                            sm.params.settings,
                             study=reg["study"], level=reg["level"], skipped=skipped), f, indent=1)
 print(pd.DataFrame(rows).to_string())
 captions.write_captions(sm.input.templates[:1], sm.output.captions[:1],

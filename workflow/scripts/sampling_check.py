@@ -7,10 +7,10 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 from masonrydem.report import captions  # noqa: E402
 from masonrydem.pipeline import plan  # noqa: E402
-from masonrydem.study.sampling import sampling_check, wallette_samples  # noqa: E402
+from masonrydem.study.sampling import sampling_check  # noqa: E402
 
 study = plan.study(sm.config)
-wallettes, achieved = wallette_samples(study.samples, study.seed, study.variables, study.correlations)
+wallettes, achieved = study.wallette_draw
 check = sampling_check(wallettes, achieved, study.variables)
 check.to_csv(sm.output.check, index=False, float_format="%.4g")
 print(check.to_string())

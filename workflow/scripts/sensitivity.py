@@ -10,7 +10,7 @@ from masonrydem.report import captions  # noqa: E402
 from masonrydem.pipeline import plan  # noqa: E402
 from masonrydem.analysis import sensitivity as S  # noqa: E402
 from masonrydem.analysis.statistics import of_study  # noqa: E402
-from masonrydem.specimen.quantities import to_shown  # noqa: E402
+from masonrydem.scene import to_shown  # noqa: E402
 
 runs = pd.read_parquet(sm.input.runs)
 spec = sm.params.analysis

@@ -1,8 +1,7 @@
-"""The Sobol check's points (study.copula.pick_freeze; the check:
+"""The Sobol check's points (Study.pick_freeze; the check:
 analysis/sobol_check.py) as a samples file of the study's form: each
 record the sample's number in SALib's order, its values, its scene
-settings and each variable's setting (study/settings.py).  Its code is the
-sampling's alone, nothing of the analysis or the solver."""
+settings and each variable's setting (study/settings.py)."""
 import sys
 
 sm = snakemake  # noqa: F821
@@ -10,16 +9,10 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import json  # noqa: E402
 
-from masonrydem.study.copula import pick_freeze  # noqa: E402
-from masonrydem.study.sampling import Variable  # noqa: E402
-from masonrydem.study.settings import record  # noqa: E402
+from masonrydem.pipeline import plan  # noqa: E402
 
-design = sm.params.design
-variables = tuple(Variable(**{**v, "bounds": tuple(v["bounds"]) if v["bounds"] else None})
-                  for v in design["variables"])
-correlations = {(a, b): rho for a, b, rho in design["correlations"]}
-_, x = pick_freeze(variables, correlations, sm.params.check["base"], sm.params.check["seed"])
-points = [{"sample": k, **{v.name: float(x[k, j]) for j, v in enumerate(variables)}} for k in range(len(x))]
+study = plan.study(sm.config)
+points = study.pick_freeze(sm.params.check["base"], sm.params.check["seed"])
 with open(sm.output.samples, "w") as f:
-    f.write(json.dumps([record(p, "wallette", variables, design["rules"]) for p in points]))
-print(f"{len(points)} points: {sm.params.check['base']} base points x ({len(variables)} inputs + 2)")
+    f.write(json.dumps(points))
+print(f"{len(points)} points: {sm.params.check['base']} base points x ({len(study.variables)} inputs + 2)")

@@ -7,7 +7,7 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 import pandas as pd  # noqa: E402
 
 from masonrydem.report import captions  # noqa: E402
-from masonrydem.specimen.scene import build_scene  # noqa: E402
+from masonrydem.scene import build_scene  # noqa: E402
 from masonrydem.analysis.validation import specimen_figure, specimen_table  # noqa: E402
 
 cases = sm.params.cases

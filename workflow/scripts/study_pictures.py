@@ -16,7 +16,7 @@ from masonrydem.analysis.statistics import of_study  # noqa: E402
 from masonrydem.pipeline.plan import level_override  # noqa: E402
 from masonrydem.specimen.protocol import simulate  # noqa: E402
 from masonrydem.specimen.row import outcome_row, read_json  # noqa: E402
-from masonrydem.specimen.scene import build_scene  # noqa: E402
+from masonrydem.scene import build_scene  # noqa: E402
 from masonrydem.specimen.state import state_blocks  # noqa: E402
 from masonrydem.report.pictures import picture_damage  # noqa: E402
 

@@ -8,4 +8,4 @@ import pandas as pd  # noqa: E402
 
 from masonrydem.report import figures as F  # noqa: E402
 
-F.tornado(pd.read_csv(sm.input.table), sm.output.figure)
+F.tornado(pd.read_csv(sm.input.table), sm.output.figure, sm.params.titles)

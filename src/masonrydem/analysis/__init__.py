@@ -7,3 +7,8 @@ the deterministic tables, design rules and the source paper's scorecard
 
 Every function takes the study's names and numbers (its inputs' columns,
 its swept setting, its terms) as arguments."""
+
+# its modules, each imported on its own: a caller of one loads no other's
+# libraries (scikit-learn, matplotlib, pyvista)
+__all__ = ["accuracy", "brick_formats", "design", "equations", "fractiles", "labfit", "labsheet", "needs", "predict",
+           "sensitivity", "sobol_check", "statistics", "validation"]

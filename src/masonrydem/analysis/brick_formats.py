@@ -23,7 +23,7 @@ def format_of(study_file):
     """(the brick of a study's wallette, {L, H, W, t} in mm: its scene's,
     with what the study's rules set; the variant its equations are fitted
     on)."""
-    from ..specimen.scene import build_scene
+    from ..scene import build_scene
     from ..study.file import load_study
     st = load_study(study_file)
     g = build_scene(st.scene, settings={k: v for k, v in st.rules.items() if k.startswith("geometry.")}).geometry

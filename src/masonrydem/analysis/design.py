@@ -186,7 +186,7 @@ def study_inputs(study, bond=None, units=None):
     and AS 3700's (f'_mt, f'_ut) in MPa, the characteristic values of the
     tests of the variables ``bond`` (bond wrench) and ``units`` (units'
     flexure), or None unless both are given with lab records."""
-    from ..specimen.quantities import shown, to_si
+    from ..scene import shown, to_si
     from .labsheet import read_sheet
     if not study.provenance:
         raise InputError("study.variables", "no variable has a lab record (provenance): fit one (masonrydem fit)")

@@ -24,8 +24,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-FRACTILE = 0.05          # the characteristic value of EN 1990 and EN 1996: the 5 % fractile
-CONFIDENCE = 0.95
+from .needs import CONFIDENCE, FRACTILE
 NORMALITY_P = 0.05       # Shapiro-Wilk: below it, the logs are taken as not normal
 
 

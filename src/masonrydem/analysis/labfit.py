@@ -12,7 +12,7 @@ import numpy as np
 from scipy import optimize, stats
 
 from ..errors import InputError
-from ..specimen.quantities import shown
+from ..scene import shown
 
 FAMILIES = ("normal", "lognormal", "weibull")
 STUDY_FAMILIES = ("lognormal", "normal")          # those a study file draws from a mean and a cov

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..specimen.quantities import to_si
+from ..scene import to_si
 
 MIN_RESULTS = 3
 LAB_TOLERANCE = 0.01     # a lab's computed strength agrees with the loads' within 1 %, and its rounding

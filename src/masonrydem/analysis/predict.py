@@ -25,9 +25,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..specimen.quantities import is_plain, meant, shown, to_shown, to_si
+from ..scene import is_plain, meant, shown, to_shown, to_si
 
-def build(fits, ns, scene, source, columns, units, variant, settings=None, raw_bending=None, study=None, level=None,
+def build(fits, ns, scene, source, columns, units, variant, settings=None, study=None, level=None,
           skipped=None):
     """The predictor of the fitted equations ``fits`` (equations.
     prediction_equations: mode -> (equation, strengths)) on the runs
@@ -35,10 +35,10 @@ def build(fits, ns, scene, source, columns, units, variant, settings=None, raw_b
     runs came from (named in the printout); ``columns`` and ``units``: each
     input's column in ``ns`` and its SI unit (Study.columns, Study.units);
     ``variant``: the study's variant the runs are of; ``settings``: the
-    scene setting each random input drives; ``raw_bending``: the scene
-    file's loading.bending as written (whether its section is the wall as
-    built and its spans in unit lengths: then both follow a brick that the
-    inputs change, ``wallette_at``); ``study``: the study's name;
+    scene setting each random input drives (where the scene's section is
+    the wall as built and its spans are in unit lengths, both follow a
+    brick that the inputs change: ``wallette_at``); ``study``: the study's
+    name;
     ``level``: its swept input's name, whose levels' shares of each
     failure mode among the runs are kept (``predict`` warns where a mode
     it has no equation for occurs); ``skipped``: mode -> why it has no
@@ -66,8 +66,7 @@ def build(fits, ns, scene, source, columns, units, variant, settings=None, raw_b
                       unit_mm=[g.unit_length * 1e3, g.unit_height * 1e3, g.unit_width * 1e3],
                       joint_mm=g.joint_thickness * 1e3, section_height_m=bend.section_height,
                       thickness_m=g.unit_width, shear_span_m=bend.shear_span,
-                      section_as_built=raw_bending is not None and "section_height" not in raw_bending,
-                      spans_in_units=raw_bending is not None and "shear_span_units" in raw_bending))
+                      section_as_built=bend.section_as_built, spans_in_units=bend.spans_in_units))
 
 
 BRICK = ("geometry.unit.length", "geometry.unit.height", "geometry.unit.width", "geometry.joint_thickness")

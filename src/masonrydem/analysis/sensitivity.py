@@ -59,13 +59,13 @@ import pandas as pd
 from scipy import stats
 
 from ..study.copula import CLIP, CopulaMap
+from .needs import MIN_RUNS
 
 N_BASE = 2 ** 12
 DRAWS = 200
 FEATURES = 1000
 CONFIDENCE = 0.95
 MIN_R2 = 0.5
-MIN_RUNS = 10
 
 
 def input_map(variables, correlations, scale):

@@ -1,7 +1,7 @@
 """A batch: S simulations of one mesh, a lane each, advanced in lock-step
 by the step kernel (kernels/layout.py: the lanes; lockstep.py: the
 programs that drive them).  A single run is a batch of one
-(solver.init).  The lanes share the mesh's arrays; each has its own
+(init).  The lanes share the mesh's arrays; each has its own
 materials, masses, states and controls.
 """
 import hashlib
@@ -10,11 +10,17 @@ import numpy as np
 
 from . import kernels as K
 from .kernels.step import specialised
-from .solver import State, _checked, _lane_arrays, _ramp
+from .solver import State, checked_numerics, lane_arrays, ramp_rate
 
 # container -> (its name in the Assembly, the kernels' class)
 _CONTAINERS = dict(nodes=("nodes", K.Nodes), zones=("zones", K.Zones), cells=("cells", K.Cells),
                    joints=("joints", K.Contacts), bearings=("bearings", K.Contacts), bodies=("bodies", K.Bodies))
+
+
+def init(assembly, numerics):
+    """The state of ``assembly`` at rest, with its masses and step: the one
+    lane of a batch of one."""
+    return Batch(assembly, numerics, 1).load(0, assembly)
 
 
 def width(runs):
@@ -57,7 +63,7 @@ class Batch:
                                  np.zeros(S))
         self.work = np.zeros((2, S))
         self.ctl = K.Controls(np.zeros(S, np.int64), np.zeros(S, np.int64), np.ones(S), np.ones(S), np.ones(S),
-                              np.zeros(S), np.full(S, _checked(numerics)[1]), a.gravity)
+                              np.zeros(S), np.full(S, checked_numerics(numerics)[1]), a.gravity)
         self.kernel = None
         self.width = K.h_width(len(a.monitor_names))      # a row of history
 
@@ -77,7 +83,7 @@ class Batch:
         """The State of ``assembly`` at rest in lane ``lane``."""
         if assembly is not self.assembly and not self.fits(assembly, self.numerics):
             raise ValueError("a batch's lanes share one mesh and its numerics: this model differs")
-        own, integ = _lane_arrays(assembly, self.numerics)
+        own, integ = lane_arrays(assembly, self.numerics)
         for name, fields in own.items():
             view = self.view(name, lane)
             for f, x in fields.items():
@@ -143,7 +149,7 @@ class Batch:
         ``controls``, ``k0`` of its steps done."""
         b, ctl = state.lane, self.ctl
         ctl.step0[b], ctl.k0[b], ctl.dt[b], ctl.alpha[b] = state.step, k0, state.integrator.dt, state.integrator.alpha
-        ctl.lf[b], ctl.vf0[b], ctl.dvf[b] = float(controls.load_factor), float(state.velocity_factor), _ramp(controls)
+        ctl.lf[b], ctl.vf0[b], ctl.dvf[b] = float(controls.load_factor), float(state.velocity_factor), ramp_rate(controls)
 
     def advance(self, n):
         """Every lane ``n`` steps (fewer if a step of a lane is not

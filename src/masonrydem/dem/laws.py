@@ -2,10 +2,9 @@
 parameters -> kernel rows.
 
 The laws themselves are small jitted functions in ``kernels.zones`` and
-``kernels.joint_laws``.  Each law is declared once, in ``BLOCK_MODELS`` or
-``JOINT_LAWS``: its name in a scene (``physics.blocks`` /
-``physics.joints``; the scene schema takes its choices from these
-tables), its kernel id and the parameters it reads, which are validated
+``kernels.joint_laws``.  Each joint law is declared once, in
+``JOINT_LAWS``: its name (a scene's ``physics.joints``; the scene schema
+lists the same names, a test checks it), its kernel id and the parameters it reads, which are validated
 (refusing bad values with the field's name) and packed into the
 per-zone / per-sub-contact rows the kernels read.
 """
@@ -105,25 +104,6 @@ class MohrCoulomb(Elastic):
         ft = self.ft if self.phi == 0 else min(self.ft, self.c / math.tan(math.radians(self.phi)))
         r[K.ZP_FT], r[K.ZP_C], r[K.ZP_NPHI], r[K.ZP_GF] = ft, self.c, nphi, self.Gf
         return r
-
-
-@dataclass(frozen=True)
-class BlockModel:
-    """A block model a scene can declare (``physics.blocks``): the material
-    of its units, rigid or deformable, and whether each unit is split at
-    its crack plane by a potential-crack interface (specimen.build)."""
-    name: str
-    material: type        # the material class of its units
-    rigid: bool
-    crack_interface: bool = False
-
-
-BLOCK_MODELS = {m.name: m for m in (
-    BlockModel("rigid", Elastic, True),
-    BlockModel("elastic", Elastic, False),
-    BlockModel("elasto-plastic", MohrCoulomb, False),
-    BlockModel("potential-crack", Elastic, False, crack_interface=True),
-)}
 
 
 # --- joint laws --------------------------------------------------------------

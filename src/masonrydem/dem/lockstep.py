@@ -31,6 +31,7 @@ import scipy.linalg.cython_blas  # noqa: F401  (the BLAS the kernels call, loade
 from threadpoolctl import threadpool_limits
 
 from .batch import width
+from .solver import advance, advanced, started
 
 
 class Advance(NamedTuple):
@@ -52,7 +53,6 @@ class Job(NamedTuple):
 
 def drive(program):
     """The result of ``program`` run alone (its states a batch of one)."""
-    from .solver import advance
     with threadpool_limits(1, user_api="blas"):
         try:
             request = next(program)
@@ -70,7 +70,6 @@ class _Lane:
 
     def take(self, request, batch):
         """The program's next chunk, set up in the lane."""
-        from .solver import started
         self.state, self.controls, self.n = started(request.state), request.controls, request.n
         self.rows = np.empty((self.n, batch.width))
         self.done = 0
@@ -119,7 +118,6 @@ class _Lockstep:
             lane.state = lane.state._replace(batch=self.batch, lane=b)
 
     def run(self):
-        from .solver import advanced
         for b in range(self.batch.lanes):
             self.fill(b)
         while any(self.lanes):

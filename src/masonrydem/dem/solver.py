@@ -109,14 +109,7 @@ class Controls(NamedTuple):
     load_factor: float = 1.0
 
 
-def init(assembly, numerics):
-    """The state of ``assembly`` at rest, with its masses and step: the one
-    lane of a batch of one."""
-    from .batch import Batch
-    return Batch(assembly, numerics, 1).load(0, assembly)
-
-
-def _checked(numerics):
+def checked_numerics(numerics):
     """(mode, damping, safety) of ``numerics``, refused where invalid."""
     mode, safety, damping = numerics.mode, numerics.safety, numerics.damping
     if mode not in (QUASI_STATIC, DYNAMIC):
@@ -132,11 +125,11 @@ def _checked(numerics):
     return mode, float(damping), safety
 
 
-def _lane_arrays(assembly, numerics):
+def lane_arrays(assembly, numerics):
     """A run's own arrays at rest (by container and field, as the
     assembly's, without a lane axis) and its Integrator."""
     a = assembly
-    mode, alpha, safety = _checked(numerics)
+    mode, alpha, safety = checked_numerics(numerics)
     free = a.nodes.fixed.min(axis=1) == 0
     knode = a.stiffness.max(axis=1)
     floating = np.flatnonzero(free & (knode <= 0))
@@ -193,7 +186,7 @@ def _rotations(a, mode, alpha, safety):
     return iinv, crit
 
 
-def _ramp(controls):
+def ramp_rate(controls):
     return 1.0 / controls.ramp_steps if controls.ramp_steps else 0.0
 
 
@@ -218,7 +211,7 @@ def advanced(state, controls, rows, finite):
     its last step was."""
     a = state.assembly
     done = rows.shape[0]
-    ramp = _ramp(controls)
+    ramp = ramp_rate(controls)
     # loading at full speed (the velocity ramp is over) at each step
     loading = state.velocity_factor + np.arange(1, done + 1) * ramp >= 1.0
     for g in range(len(a.monitor_names)):

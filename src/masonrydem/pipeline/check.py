@@ -17,13 +17,11 @@ import difflib
 import math
 import re
 
-from ..dem.laws import MohrCoulomb
+from ..analysis.needs import MIN_RUNS, lower_end_runs
 from ..errors import InputError
-from ..specimen.files import read_scene
-from ..specimen.quantities import shown, to_shown
-from ..specimen.scene import SCHEMA as SCENE_SCHEMA
-from ..specimen.scene import build_scene
-from ..specimen.size import model_size
+from ..scene import SCHEMA as SCENE_SCHEMA
+from ..scene import build_scene, model_size, read_scene, shown, to_shown
+from ..study.terms import MIN_SAMPLES
 from . import plan
 
 # seconds per step and item, one core (docs/speed.md, 2026-11-25)
@@ -32,7 +30,7 @@ COST = dict(sub_contacts=15e-9, cells=37e-9, zones_plastic=25e-9, zones_elastic=
 
 def step_seconds(scene, size):
     """The estimated cost of one step (s) of the scene's model of ``size``."""
-    plastic = scene.physics.model.material is MohrCoulomb
+    plastic = scene.physics.model.plastic
     zones = COST["zones_plastic" if plastic else "zones_elastic"]
     return (size["sub_contacts"] * COST["sub_contacts"] + size["cells"] * COST["cells"]
             + size["tetrahedra"] * zones + size["nodes"] * COST["nodes"])
@@ -127,11 +125,8 @@ def study_outputs(study):
     the Sobol indices (MIN_RUNS runs in a group: a variant, level and
     failure mode, or all modes) and the non-parametric 5 % fractile's
     interval (a lower end needs the n at which order_ranks gives one)."""
-    from ..analysis.fractiles import order_ranks
-    from ..analysis.sensitivity import MIN_RUNS
-    from ..study.terms import MIN_SAMPLES
     n, levels = study.samples, len(study.levels)
-    lower = next(m for m in range(n, 10 ** 4) if order_ranks(m)[0] is not None)
+    lower = lower_end_runs()
     equations = (f"    prediction equations (variant {study.regression_variant}): a failure mode gets one where at "
                  f"least {MIN_SAMPLES} of the {n} samples fail in it at some level; else the other mode's stands for "
                  "both, and `predict` says so" if study.regression_variant else

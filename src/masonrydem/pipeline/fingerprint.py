@@ -2,10 +2,12 @@
 its code.  Snakemake does not follow a script's imports, so each script
 rule carries, as a parameter, the fingerprint of the script and of every
 module of the package it imports, directly or through others
-(``code_fingerprint``).  The modules that decide what a simulation
-computes (masonrydem.SIMULATION: dem/, specimen/, errors.py) stand in it
-as one item, the solver's source hash; so a step whose imports never reach
-them (the sampling) does not rerun when the solver changes.
+(``code_fingerprint``).  The solver and the specimen (dem/, specimen/)
+stand in it as one item, the solver's source hash (sources.py: their
+sources and those of scene/ and errors.py), so that a step that runs or
+reads simulations reruns when the solver changes; a step whose imports
+reach only the scene (the sampling) carries the scene's own code, and
+does not rerun when the solver changes.
 """
 import ast
 import functools
@@ -13,9 +15,11 @@ import hashlib
 import json
 from pathlib import Path
 
-import masonrydem
+from .. import sources
 
-PACKAGE = Path(masonrydem.__file__).parent
+PACKAGE = Path(sources.__file__).parent
+# the folders that stand in a fingerprint as the solver's source hash
+SOLVER = ("dem", "specimen")
 
 
 def _digest(*items):
@@ -92,15 +96,14 @@ def modules_used(name):
 
 
 def simulation_module(name):
-    """Whether a module is one of those that decide a simulation."""
-    head = name.split(".")[0]
-    return any(head == item.removesuffix(".py") for item in masonrydem.SIMULATION)
+    """Whether a module stands in a fingerprint as the solver's hash."""
+    return name.split(".")[0] in SOLVER
 
 
 @functools.cache
 def _module_code(name):
     path = module_file(name)
-    return masonrydem.source_code(path.name, path.read_text())
+    return sources.source_code(path.name, path.read_text())
 
 
 def script_modules(script):
@@ -115,6 +118,6 @@ def code_fingerprint(script):
     modules as the solver's source hash."""
     used = script_modules(script)
     own = sorted(n for n in used if n and not simulation_module(n))
-    solver = masonrydem.source_hash() if any(simulation_module(n) for n in used if n) else None
-    return _digest(masonrydem.source_code(Path(script).name, Path(script).read_text()),
+    solver = sources.source_hash() if any(simulation_module(n) for n in used if n) else None
+    return _digest(sources.source_code(Path(script).name, Path(script).read_text()),
                    *((n, _module_code(n)) for n in own), solver)

@@ -3,10 +3,13 @@ overrides of each simulation job, from the workflow's config
 (config/config.yaml, validated by config/schema.yaml).  The file paths are
 the workflow's (workflow/rules/common.smk); this module names the runs and
 says what each one overrides."""
-
 from dataclasses import replace
 from functools import lru_cache
 
+import yaml
+
+from ..scene import PRECOMPRESSION, build_scene, to_shown
+from ..study.file import check_samples, load_study, with_levels
 
 
 def effective(*lists):
@@ -120,7 +123,6 @@ def study(config):
 
 @lru_cache(maxsize=None)
 def _study(path, samples, seed, levels):
-    from ..study.file import check_samples, load_study, with_levels
     st = load_study(path)
     if samples is not None:
         check_samples(samples, "study.samples")
@@ -137,20 +139,9 @@ def _number(text):
         return text
 
 
-def study_items(config):
-    """The study's wallette (its scene with the study's rules) as the
-    sampling needs it: its units and joints, each an (x, z) on the wall's
-    face (m), in the order of the per-unit and per-joint settings."""
-    from ..specimen.scene import build_scene
-    st = study(config)
-    centres = build_scene(st.scene, settings=st.rules).geometry.item_centres()
-    return {what: centres[what].tolist() for what in ("unit", "joint")}
-
-
 def study_levels(config):
     """The study's levels of its swept setting, in the unit the runs table
     shows them in (the precompression in MPa)."""
-    from ..specimen.quantities import to_shown
     st = study(config)
     return [to_shown(level, st.units[st.sweep_name]) for level in st.levels]
 
@@ -217,7 +208,6 @@ def further_study(workflow_config):
     """What a further study's report page needs of its study file (its
     workflow config's study.file): the variant its equations are fitted
     on, its swept setting's column and the unit it is shown in."""
-    import yaml
     with open(workflow_config) as f:
         path = yaml.safe_load(f)["study"]["file"]
     st = _study(path, None, None, None)
@@ -250,7 +240,6 @@ def report_spec(config):
     name, its wallette and test (from its scene with its rules), what each
     variant draws, and the report's categories with what each holds
     (those of the stages this config runs)."""
-    from ..specimen.scene import build_scene
     st = study(config)
     sc = build_scene(st.scene, settings=st.rules)
     g = sc.geometry
@@ -390,5 +379,4 @@ def reference_checks(config):
 
 def pressure(sv_mpa):
     """The override of a precompression level (MPa)."""
-    from ..specimen.scene import PRECOMPRESSION
     return f"{PRECOMPRESSION}={float(sv_mpa) * 1e6}"

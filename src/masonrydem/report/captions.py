@@ -25,7 +25,7 @@ def write_captions(templates, outputs, values):
         write_caption(t, o, **values.get(Path(t).stem, {}))
 
 
-def _num(x, spec):
+def num(x, spec):
     """A number for a caption; an undefined one (the COV of one run) says so."""
     return "undefined" if pd.isna(x) else format(x, spec)
 
@@ -44,15 +44,17 @@ def validation_summary(table):
         for r in table.itertuples()))
 
 
-def hard_cases(table):
+def hard_cases(table, limit):
     """validation.hard_cases_table's rows, and how many runs miss their
-    expected mode or end without a usable status."""
+    expected mode or end without a usable status; ``limit``: the load's
+    unbalance below which a peak counts (the solver's)."""
     lines = [f"{r.run}: {r.status}, **P_max {r.P_max_kN:.3f} kN**, {r.failure_mode} failure "
              f"(expected: {r.expect}{'' if r.mode_as_expected else ', NOT MET'}), {r.steps} steps, "
              f"load unbalanced by {r.unbalance_at_peak:.4f} at the peak, post-peak {r.post_peak}"
              + ("" if pd.isna(r.half_rate_change_pct) else f", {r.half_rate_change_pct:+.2f} % against {r.case}")
              for r in table.itertuples()]
-    return dict(lines=_bullets(lines), n=len(table), unmet=int((~(table.mode_as_expected & table.ok)).sum()))
+    return dict(lines=_bullets(lines), n=len(table), unmet=int((~(table.mode_as_expected & table.ok)).sum()),
+                limit=f"{limit:g}")
 
 
 def reduced(table, tolerance):
@@ -123,10 +125,10 @@ def statistics(runs, stats, corr, inc, level, inputs, report):
 
     bad = runs[~runs.ok]
     stat_lines = [f"{r.variant}, {level.text(getattr(r, level.column))}: mean **{r.P_max_mean_kN:.2f} kN** "
-                  f"({_num(r.P_max_mean_kN_lo, '.2f')} to {_num(r.P_max_mean_kN_hi, '.2f')}; "
-                  f"{r.strength_mean_mpa:.3f} MPa), COV **{r.P_max_cov:.3f}** ({_num(r.P_max_cov_lo, '.3f')} to "
-                  f"{_num(r.P_max_cov_hi, '.3f')}), {r.count} runs, {100 * r.brick_share:.0f} % brick failures "
-                  f"({_num(100 * r.brick_share_lo, '.0f')} to {_num(100 * r.brick_share_hi, '.0f')} %)"
+                  f"({num(r.P_max_mean_kN_lo, '.2f')} to {num(r.P_max_mean_kN_hi, '.2f')}; "
+                  f"{r.strength_mean_mpa:.3f} MPa), COV **{r.P_max_cov:.3f}** ({num(r.P_max_cov_lo, '.3f')} to "
+                  f"{num(r.P_max_cov_hi, '.3f')}), {r.count} runs, {100 * r.brick_share:.0f} % brick failures "
+                  f"({num(100 * r.brick_share_lo, '.0f')} to {num(100 * r.brick_share_hi, '.0f')} %)"
                   for r in stats[stats["mode"] == "all"].itertuples()]
     corr_lines = []
     for r in corr[corr["mode"] == "all"].itertuples():
@@ -142,7 +144,7 @@ def statistics(runs, stats, corr, inc, level, inputs, report):
                           fields=FIELDS_NOTE if any(d != "wallette" for d in report["draws"].values()) else "",
                           spreads="; ".join(spread(v) for v in sorted(runs.variant.unique()))),
         increase=dict(lines="; ".join(f"{r.variant} {r.mode} **{100 * r.increase:+.0f} %** "
-                                      f"({_num(100 * r.increase_lo, '+.0f')} to {_num(100 * r.increase_hi, '+.0f')} %)"
+                                      f"({num(100 * r.increase_lo, '+.0f')} to {num(100 * r.increase_hi, '+.0f')} %)"
                                       for r in inc.dropna(subset=["increase"]).itertuples())
                       + f" (from {levels[0]:g} to {level.text(levels[-1])})"))
 
@@ -352,10 +354,10 @@ def accuracy_scaling(table, courses):
 def accuracy_subsample(table, fine):
     """accuracy.compare_subsample's table, one line per precompression."""
     lines = [f"{r.sigma_v_mpa:g} MPa, {r.runs} runs ({r.excluded} excluded): mean P_max "
-             f"{_num(r.mean_kN_default, '.3f')} kN default, {_num(r.mean_kN_fine, '.3f')} kN fine "
-             f"({_num(100 * r.mean_diff, '+.1f')} %); COV {_num(r.cov_default, '.3f')} default, "
-             f"{_num(r.cov_fine, '.3f')} fine; brick failures {r.brick_default} default, {r.brick_fine} fine; "
-             f"same mode in {r.same_mode} of {r.runs}; P_max default/fine {_num(r.ratio_mean, '.3f')} "
-             f"(COV {_num(r.ratio_cov, '.3f')})" for r in table.itertuples()]
+             f"{num(r.mean_kN_default, '.3f')} kN default, {num(r.mean_kN_fine, '.3f')} kN fine "
+             f"({num(100 * r.mean_diff, '+.1f')} %); COV {num(r.cov_default, '.3f')} default, "
+             f"{num(r.cov_fine, '.3f')} fine; brick failures {r.brick_default} default, {r.brick_fine} fine; "
+             f"same mode in {r.same_mode} of {r.runs}; P_max default/fine {num(r.ratio_mean, '.3f')} "
+             f"(COV {num(r.ratio_cov, '.3f')})" for r in table.itertuples()]
     return dict(n=int((table.runs + table.excluded).max()), levels=", ".join(f"{v:g}" for v in table.sigma_v_mpa),
                 fine=", ".join(fine), lines=_bullets(lines))

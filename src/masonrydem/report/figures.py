@@ -352,16 +352,12 @@ def paper_comparison(card, path):
     _save(fig, path)
 
 
-# the model-form study's assumptions as an engineer names them (others: their words)
-ASSUMPTIONS = {"em_eb": r"mortar-to-unit stiffness $E_m/E_b$", "ks_kn": r"joint shear-to-normal stiffness $k_s/k_n$",
-               "rig_shift": "rig shifted along the wall", "precompression_device": "precompression applied by"}
-
-
-def tornado(table, path):
+def tornado(table, path, titles=None):
     """The model-form study: per case (rows) and level (columns), each
     assumption's options as bars of the change of P_max (%), each named at
     its end, the assumptions sorted by their largest change; an option that
-    changed the failure mode hatched."""
+    changed the failure mode hatched.  ``titles``: an assumption's name ->
+    how the chart names it (the study's config; else its name's words)."""
     from matplotlib.patches import Patch
     t = table[table.assumption != "baseline"]
     order = t.groupby("assumption").change_pct.apply(lambda c: c.abs().max()).sort_values().index
@@ -379,7 +375,7 @@ def tornado(table, path):
                 ax.text(r.change_pct + (1 if r.change_pct >= 0 else -1), yy, r.option, fontsize=6, va="center",
                         ha="left" if r.change_pct >= 0 else "right")
         ax.axvline(0, color="k", lw=0.8)
-        ax.set_yticks(range(len(order)), [ASSUMPTIONS.get(n, n.replace("_", " ")) for n in order], fontsize=8)
+        ax.set_yticks(range(len(order)), [(titles or {}).get(n, n.replace("_", " ")) for n in order], fontsize=8)
         ax.set_title(f"{case} failure case, " + r"$\sigma_v$" + f" = {sv:g} MPa", fontsize=9)
         ax.grid(axis="x", alpha=0.3)
     for ax in axes[-1]:

@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from .captions import _num
+from .captions import num
 
 
 def modelform_band(summary):
@@ -88,7 +88,7 @@ def landing(runs, stats, excluded, level, report, source, card=None, band=None):
     modelform_band, or None); ``report``: pipeline.plan.report_spec;
     ``source``: the study's source (source)."""
     rows = [(r.variant, f"{getattr(r, level.column):g}", f"{r.P_max_mean_kN:.2f}", f"{r.strength_mean_mpa:.3f}",
-             _num(r.P_max_cov, ".3f"), f"{100 * r.brick_share:.0f}", str(r.count))
+             num(r.P_max_cov, ".3f"), f"{100 * r.brick_share:.0f}", str(r.count))
             for r in stats[stats["mode"] == "all"].itertuples()]
     head = ("variant", f"{level.name} ({level.unit})".replace(" ()", ""), "mean P_max (kN)", "strength (MPa)", "COV",
             "brick (%)", "runs")

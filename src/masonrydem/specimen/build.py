@@ -1,18 +1,18 @@
-"""Specimens: a typed scene (scene.py) built into an assembled model:
-units in running bond, joints with their properties, the test's supports
-and drive (four-point bending, direct tension, triplet shear) and the
-precompression."""
+"""Specimens: a typed scene (masonrydem.scene) built into an assembled
+model: units in running bond, joints with their properties, the test's
+supports and drive (four-point bending, direct tension, triplet shear) and
+the precompression.  The one place a Scene's names (block models, their
+materials, its integration) become the solver's types."""
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..dem.assembly import Assembly
-from ..dem.blocks import GEOM_TOL
+from ..dem import GEOM_TOL, Assembly, Elastic, JointProps, Model, MohrCoulomb, Numerics
 from ..errors import InputError
-from ..dem.laws import Elastic, JointProps
-from .masonry import crack_stiffness, flexural_strength, joint_kn, joint_stiffness
-from ..dem.model import Model
-from .scene import Scene
+from ..scene import Scene, crack_stiffness, flexural_strength, joint_kn, joint_stiffness
+
+# a block model's material (scene.BLOCK_MODELS names it) -> the solver's class
+MATERIALS = {"elastic": Elastic, "mohr-coulomb": MohrCoulomb}
 
 
 @dataclass(frozen=True)
@@ -27,6 +27,7 @@ class Specimen:
     contact_joint: np.ndarray  # joint number of each contact of the assembly
     drive: np.ndarray         # nodes whose prescribed velocity drives the test (the 'load' monitor's)
     velocity: np.ndarray      # their velocity in the loading stage (m per step)
+    numerics: Numerics        # how the solver integrates it (the scene's integration)
 
     @property
     def test(self):
@@ -68,7 +69,8 @@ def build(scene):
     missing = sorted(set(range(len(joints))) - set(contact_joint.tolist()))
     if missing:
         raise InputError("geometry", f"joints {missing} touch no unit pair; check the bond")
-    return Specimen(scene, a, tuple(units), block_unit, tuple(joints), contact_joint, drive, velocity)
+    numerics = Numerics(damping=scene.integration.damping, safety=scene.integration.safety)
+    return Specimen(scene, a, tuple(units), block_unit, tuple(joints), contact_joint, drive, velocity, numerics)
 
 
 def _units(scene):
@@ -80,13 +82,14 @@ def _units(scene):
     m = Model()
     m.large = scene.physics.large
     cells = scene.discretization.cells
-    element = scene.discretization.elastic_element if model.material is Elastic and not model.rigid else "zones"
+    material_of = MATERIALS[model.material].of
+    element = scene.discretization.elastic_element if model.material == "elastic" and not model.rigid else "zones"
     units, block_unit = [], []
     for k in range(g.courses):
         x0 = g.course_span(k)[0]
         for i in range(g.units_per_course):
             uid = len(units)
-            material = model.material.of(E=mat.E[uid], nu=mat.nu, density=mat.density, ft=mat.ft[uid], c=mat.c[uid],
+            material = material_of(E=mat.E[uid], nu=mat.nu, density=mat.density, ft=mat.ft[uid], c=mat.c[uid],
                                          phi=mat.phi, Gf=float(mat.Gf[uid]))
             for lo, hi, n in _pieces(x0 + i * L, L, g.crack_plane(k) if model.crack_interface else None, cells[0]):
                 m.add_box([lo, 0.0, k * H], [hi, T, (k + 1) * H], [n, cells[1], cells[2]], material,

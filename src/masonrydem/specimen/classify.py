@@ -12,8 +12,7 @@ broken when its area-weighted mean damage reaches ``broken_joint_damage``.
 """
 import numpy as np
 
-from ..dem import kernels as K
-from ..dem.solver import zone_damage
+from ..dem import JS_D, zone_damage
 
 
 def _zone_blocks(assembly):
@@ -44,7 +43,7 @@ def cell_damage(specimen, state):
 def joint_damage(specimen, state):
     """Area-weighted mean damage D of each joint (contact plane)."""
     area = state.joints.area
-    D = state.joints.state[:, K.JS_D]
+    D = state.joints.state[:, JS_D]
     num = np.zeros(len(specimen.joints))
     den = np.zeros(len(specimen.joints))
     for c, j in zip(specimen.assembly.contacts, specimen.contact_joint):
@@ -69,7 +68,7 @@ def crack_fractions(specimen, state, crack_damage):
     if specimen.assembly.rigid:
         return fractions, 0.0, 0.0
     if ("crack", specimen.units[0]) in specimen.joints:
-        area, D = state.joints.area, state.joints.state[:, K.JS_D]
+        area, D = state.joints.area, state.joints.state[:, JS_D]
         cracked, total = np.zeros(n), np.zeros(n)
         for c, j in zip(specimen.assembly.contacts, specimen.contact_joint):
             kind, unit = specimen.joints[j]

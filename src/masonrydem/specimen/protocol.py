@@ -14,12 +14,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..dem.history import PEAK_UNBALANCE, unbalance
-from ..dem import lockstep
-from ..dem.batch import Batch, lane_key
-from ..dem.solver import Controls, init, prescribe
+from ..dem import PEAK_UNBALANCE, Batch, Controls, Stops, init, lane_key, lockstep, prescribe, stage, unbalance
 from .build import build
-from ..dem.stops import Stops, stage
 
 GOOD = ("load_drop", "displacement_limit", "past_peak")
 CHUNK = 500          # steps between the stop rules' checks
@@ -160,7 +156,7 @@ def simulate(scene, progress=True):
         print(f"[build] {len(specimen.units)} units, {len(specimen.joints)} joints: {a.zones.tets.shape[0]} tetrahedra, "
               f"{a.cells.nodes.shape[0]} linear cells, {a.joints.area.size} sub-contacts ({time.perf_counter() - t0:.1f} s)",
               file=sys.stderr, flush=True)
-    return lockstep.drive(simulation(specimen, init(specimen.assembly, scene.numerics), progress, t0))
+    return lockstep.drive(simulation(specimen, init(specimen.assembly, specimen.numerics), progress, t0))
 
 
 def simulation(specimen, state, progress=False, t0=None):
@@ -207,7 +203,7 @@ def simulate_many(scenes, finish, lanes):
             t0 = time.perf_counter()
             try:
                 specimen = build(scene)
-                return i, specimen, lane_key(specimen.assembly, scene.numerics), t0
+                return i, specimen, lane_key(specimen.assembly, specimen.numerics), t0
             except Exception as e:      # nothing lost: the scene's row says why
                 finish(i, None, e)
         return None
@@ -221,7 +217,7 @@ def simulate_many(scenes, finish, lanes):
         if first is None:
             return
         key = first[2]
-        batch = Batch(first[1].assembly, first[1].scene.numerics, min(lanes, 1 + len(pending) + len(held)))
+        batch = Batch(first[1].assembly, first[1].numerics, min(lanes, 1 + len(pending) + len(held)))
 
         def jobs():
             yield job(first[0], first[1], first[3])

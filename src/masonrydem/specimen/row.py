@@ -16,13 +16,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__, source_hash
+from ..sources import __version__, source_hash
 from .classify import classify
-from .quantities import column, to_shown
-from .scene import setting_unit
-from ..dem.history import PEAK_UNBALANCE
+from ..scene import column, to_shown
+from ..scene import setting_unit
+from ..dem import PEAK_UNBALANCE, max_rotation
 from .protocol import DROP_WINDOW, GOOD, post_peak
-from ..dem.solver import max_rotation
 
 CURVE_COLUMNS = ("step", "displacement_mm", "load_kN", "ratio", "unbalance")
 NAN = math.nan

@@ -10,8 +10,7 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 import pyvista as pv  # noqa: E402
 
-from ..dem import kernels as K  # noqa: E402
-from ..dem.solver import zone_damage  # noqa: E402
+from ..dem import JS_D, zone_damage  # noqa: E402
 
 
 def zones_grid(specimen, state=None):
@@ -68,7 +67,7 @@ def joints_points(specimen, state):
     poly.point_data["area"] = j.area
     poly.point_data["axis"] = axis
     poly.point_data["crack"] = crack
-    poly.point_data["damage"] = state.joints.state[:, K.JS_D]
+    poly.point_data["damage"] = state.joints.state[:, JS_D]
     return poly
 
 

@@ -26,82 +26,24 @@ and, where one fits, a suggestion:
   variables and a regression feature.
 """
 import difflib
-import re
 import hashlib
-from dataclasses import dataclass, field, replace
-from pathlib import Path
+import math
+import re
+from dataclasses import replace
 from importlib import resources
+from pathlib import Path
 
+import numpy as np
 from jsonschema import Draft202012Validator
 
 from ..errors import InputError, check_finite
-from ..specimen.files import read_scene, read_yaml
-from ..specimen.quantities import column, is_plain, shown, to_shown, to_si
-from ..specimen.scene import PRECOMPRESSION, build_scene, setting_unit
+from ..scene import build_scene, is_plain, read_scene, read_yaml, setting_unit, shown, to_si
 from .sampling import Variable
 from .settings import PER_ITEM
 from .terms import MIN_SAMPLES, parse_term
+from .typed import Study, mean_of
 
 SCHEMA = read_yaml(resources.files(__package__).joinpath("study_schema.yaml").read_text())
-
-
-@dataclass(frozen=True)
-class Study:
-    name: str
-    scene: str                 # the scene file
-    samples: int
-    seed: int
-    variables: tuple           # sampling.Variable, in the file's order
-    correlations: dict         # (name, name) -> rho
-    variants: dict             # name -> {'draw': wallette, items or field, 'correlation_length': m or None}
-    rules: dict                # dotted scene setting -> value
-    sweep_setting: str
-    levels: tuple              # SI
-    features: tuple            # the equations' terms (study/terms.py)
-    sweep_name: str            # the swept setting's name as an input
-    units: dict                # input (a variable or the sweep's name) -> its SI unit
-    regression_variant: str = None   # the variant the equations are fitted on (None: none fitted)
-    provenance: dict = field(default_factory=dict)   # variable -> its lab fit's record (masonrydem fit)
-
-    def variable(self, name):
-        return next(v for v in self.variables if v.name == name)
-
-    def column(self, name):
-        """The runs table's column of an input (a variable, or the swept
-        setting by its name): the name and the unit it is shown in,
-        f_tj_mpa, sigma_v_mpa, t_mm."""
-        return column(name, self.units[name])
-
-    def columns(self):
-        """Input -> its column, the variables' and the sweep's."""
-        return {name: self.column(name) for name in self.units}
-
-    def level_column(self):
-        return self.column(self.sweep_name)
-
-    def means(self):
-        return input_means(self.variables)
-
-    def per(self, what):
-        """The variables carried per unit or per joint, in the file's order."""
-        return tuple(v for v in self.variables if v.per == what)
-
-    def mean_settings(self):
-        """The scene settings of the wallette of mean properties: the rules
-        and each variable at its mean (its distribution's, where the file
-        gives none)."""
-        return {**self.rules, **{v.setting: v.mean if v.mean is not None else float(v.frozen().mean())
-                                 for v in self.variables}}
-
-    @property
-    def sweeps_precompression(self):
-        """Whether the swept setting is the vertical precompression (the
-        design rules are functions of it)."""
-        return self.sweep_setting == PRECOMPRESSION
-
-    def level_unit(self):
-        """The unit the runs table shows the swept setting in (MPa)."""
-        return shown(self.units[self.sweep_name])[0]
 
 
 def load_study(path):
@@ -142,7 +84,7 @@ def _nearest(word, words):
 def numeric_settings():
     """Every numeric setting of a scene, by its dotted path (list items
     without an index)."""
-    from ..specimen.scene import SCHEMA as SCENE
+    from ..scene import SCHEMA as SCENE
 
     def walk(node, path):
         if not isinstance(node, dict):
@@ -179,7 +121,7 @@ def _written_unit(text):
 def _unit(setting, field):
     unit = setting_unit(setting)
     if unit is None:
-        raise InputError(field, f"{setting!r} is not a numeric setting of a scene (scene_schema.yaml)"
+        raise InputError(field, f"{setting!r} is not a numeric setting of a scene (scene/schema.yaml)"
                                 + _nearest(setting, numeric_settings()))
     return unit
 
@@ -198,6 +140,9 @@ def _variable(name, v):
         raise InputError(f"{field}.sd", f"{v['sd']!r}: a standard deviation is above 0")
     if dist == "lognormal" and "mean" in q and not q["mean"] > 0:
         raise InputError(f"{field}.mean", f"{v['mean']!r}: a lognormal variable's mean is above 0")
+    if "cov" in v and "mean" in q and not q["mean"] > 0:
+        raise InputError(f"{field}.mean", f"{v['mean']!r}: a cov (sd / mean) needs a mean above 0; give sd instead "
+                                          "of cov for a mean of 0 or below")
     if dist in ("uniform", "truncated_normal") and not bounds:
         raise InputError(field, f"a {dist} distribution needs bounds: [min, max]")
     if bounds and not bounds[0] < bounds[1]:
@@ -245,7 +190,7 @@ def _typed(raw):
     variants = {n: _variant(n, v, variables) for n, v in raw["variants"].items()}
     sweep = raw["sweep"]
     unit = _unit(sweep["setting"], "sweep.setting")
-    levels = tuple(_quantity(x, unit, f"sweep.levels.{i}") for i, x in enumerate(sweep["levels"]))
+    levels = _levels(sweep["levels"], unit, "sweep.levels")
     check_samples(raw["samples"], "samples")
     sweep_name = sweep.get("name", sweep["setting"].rsplit(".", 1)[-1])
     if sweep_name in names:
@@ -275,7 +220,6 @@ def check_samples(n, field):
 def _correlations(items, names):
     """The correlations of a study file: (name, name) -> rho, each pair once,
     no variable with itself, and a matrix that is positive definite."""
-    import numpy as np
     out, seen = {}, {}
     for i, c in enumerate(items):
         for k, n in enumerate(c["between"]):
@@ -305,7 +249,6 @@ def _breaking(correlations, names):
     """The pairs whose correlation makes the matrix not positive definite:
     those without which it is, else those among the variables that weigh
     most in its direction of a non-positive eigenvalue."""
-    import numpy as np
 
     def smallest(pairs):
         m = np.eye(len(names))
@@ -352,7 +295,7 @@ def _check_against_scene(study):
     base = _fail_scene("scene", lambda: read_scene(study.scene))
     _fail_scene("rules", lambda: build_scene(base, settings=study.rules))
     for v in study.variables:
-        _fail_scene(f"variables.{v.name}", lambda: build_scene(base, settings={**study.rules, v.setting: v.frozen().mean()}))
+        _fail_scene(f"variables.{v.name}", lambda: build_scene(base, settings={**study.rules, v.setting: mean_of(v)}))
     _check_levels(study, base, study.levels, "sweep.levels", lambda e: f"the scene refuses it: {e}")
 
 
@@ -364,21 +307,29 @@ def _check_levels(study, base, levels, field, reason):
             raise InputError(f"{field}.{i}", reason(e)) from None
 
 
+def _levels(texts, unit, field):
+    """The swept levels in SI, each given once: a level that is another
+    one in other words ('100 kPa' and '0.1 N/mm2') is refused, naming
+    both (two runs folders of one level would collide)."""
+    levels = []
+    for i, x in enumerate(texts):
+        si = _quantity(x, unit, f"{field}.{i}")
+        for j, before in enumerate(levels):
+            if math.isclose(si, before, rel_tol=1e-9, abs_tol=1e-12):
+                raise InputError(f"{field}.{i}", f"{x!r} is the level {texts[j]!r} ({field}.{j}) again: give each "
+                                                 "level once")
+        levels.append(si)
+    return tuple(levels)
+
+
 def with_levels(study, levels, field):
     """The study with other ``levels`` of its swept setting (quantities or
     SI), each converted and checked by the scene as the file's are;
     InputError names ``field``.N."""
     unit = _unit(study.sweep_setting, field)
-    si = tuple(_quantity(x, unit, f"{field}.{i}") for i, x in enumerate(levels))
+    si = _levels(levels, unit, field)
     _check_levels(study, read_scene(study.scene), si, field, lambda e: e.reason)
     return replace(study, levels=si)
-
-
-def input_means(variables):
-    """Each variable's mean (its distribution's, for a uniform one) in the
-    unit the runs table shows it in."""
-    return {v.name: to_shown(v.mean if v.mean is not None else v.frozen().mean(), _unit(v.setting, v.name))
-            for v in variables}
 
 
 def _fail_prefixed_at(field, fn):

@@ -26,8 +26,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import special, stats
-from scipy.stats import qmc
 
 
 @dataclass(frozen=True)
@@ -43,6 +41,7 @@ class Variable:
 
     def frozen(self):
         """The marginal as a scipy distribution (ppf, mean, ...)."""
+        from scipy import stats         # on first use: reading a study file needs none of it (0.5 s)
         sd = self.sd if self.sd is not None else (self.cov * self.mean if self.mean is not None else None)
         if self.dist == "uniform":
             lo, hi = self.bounds
@@ -72,10 +71,12 @@ class Lognormal:
         self.s, self.scale = s, scale
 
     def ppf(self, u):
+        from scipy import special
         z = self.s * special.ndtri(np.asarray(u, float))
         return _elementwise(math.exp, z) * self.scale + 0.0        # as scipy: ppf * scale + loc
 
     def cdf(self, x):
+        from scipy import special
         return special.ndtr(_elementwise(math.log, np.asarray(x, float) / self.scale) / self.s)
 
     def mean(self):
@@ -168,6 +169,7 @@ def lhs(n, variables, correlations, seed):
     """n Latin Hypercube samples of ``variables`` with the given Pearson
     correlations between named pairs ((name, name) -> rho).  Returns (dict
     name -> array, achieved Pearson correlation matrix)."""
+    from scipy.stats import qmc
     rng = np.random.default_rng(seed)
     d = len(variables)
     u = qmc.LatinHypercube(d=d, seed=rng).random(n)
@@ -204,8 +206,13 @@ def study_samples(n, seed, n_units, n_joints, variables, correlations):
     * achieved: correlation matrix of the wallettes' sample.
     The spatial draws use seeds spawned from ``seed`` (numpy SeedSequence),
     one per simulation, so each is reproducible on its own."""
-    import pandas as pd
     wallettes, achieved = wallette_samples(n, seed, variables, correlations)
+    return wallettes, item_samples(n, seed, n_units, n_joints, variables, correlations), achieved
+
+
+def item_samples(n, seed, n_units, n_joints, variables, correlations):
+    """The draws of a variant that draws per 'items' (study_samples)."""
+    import pandas as pd
     groups = [(tuple(v for v in variables if v.per == per), count) for per, count in (("unit", n_units),
                                                                                        ("joint", n_joints))]
     rows = []
@@ -217,7 +224,7 @@ def study_samples(n, seed, n_units, n_joints, variables, correlations):
             drawn, _ = lhs(count, group, correlations=within, seed=s) if group else ({}, None)
             row.update({k: x.tolist() for k, x in drawn.items()})
         rows.append(row)
-    return wallettes, pd.DataFrame(rows), achieved
+    return pd.DataFrame(rows)
 
 
 def field_samples(n, seed, variables, correlations, centres, length):
@@ -250,6 +257,7 @@ def field_samples(n, seed, variables, correlations, centres, length):
 
 
 def _field(group, correlations, xy, length, rng):
+    from scipy import stats
     r = np.linalg.norm(xy[:, None, :] - xy[None, :, :], axis=-1)
     kernel = np.linalg.cholesky(np.exp(-r / length) + 1e-10 * np.eye(len(xy)))
     names = [v.name for v in group]

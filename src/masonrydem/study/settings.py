@@ -9,7 +9,7 @@ study's inputs without reading the study file: one value of each
 variable for the wallette (a variant that draws per 'wallette'), or one
 per unit or joint ('items' and 'field': the setting's per-unit or
 per-joint list, materials.per_unit.E and so on).  The scene applies the
-rules item by item (specimen/masonry.py).
+rules item by item (scene/masonry.py).
 
 Nothing here needs the solver: the samples do not depend on it.
 """

@@ -29,7 +29,7 @@ def _advance_dof(ff, fa, vo, m, fixed, vp, vf, alpha, dt):
 
 
 @njit(**_INLINE)
-def _advance_nodes(gon, lf, grav, vf, alpha, dt, nodes):
+def advance_nodes(gon, lf, grav, vf, alpha, dt, nodes):
     """Deformable blocks: every node's components as ``_advance_dof``, in
     two passes over the flat (n x 3) arrays: first the elementwise update
     of forces, velocities and displacements, without a branch (a
@@ -73,11 +73,11 @@ def _advance_nodes(gon, lf, grav, vf, alpha, dt, nodes):
 
 
 @njit(**_INLINE)
-def _advance_bodies(gon, grav, vf, alpha, dt, nodes, bodies):
+def advance_bodies(gon, grav, vf, alpha, dt, nodes, bodies):
     """Rigid blocks (one node per body): each body's translation, its
     point loads summed into bodies.fl, by ``_advance_dof`` per component,
     then its rotation (``_advance_rotation``).  Returns the sums as
-    ``_advance_nodes``."""
+    ``advance_nodes``."""
     u, v, f, mass, fixed, vpres = nodes.u, nodes.v, nodes.f, nodes.mass, nodes.fixed, nodes.vpres
     unbal = 0.0
     applied = 0.0
@@ -102,7 +102,7 @@ def _advance_bodies(gon, grav, vf, alpha, dt, nodes, bodies):
 
 
 @njit(**_INLINE)
-def _point_loads(lf, bodies):
+def point_loads(lf, bodies):
     """Rigid blocks: the point loads (times lf) summed per body into
     bodies.fl, their moments into bodies.mom."""
     R, fl, mom = bodies.R, bodies.fl, bodies.mom

@@ -80,7 +80,7 @@ _I32, _I64 = ir.IntType(32), ir.IntType(64)
 def cell8(typingctx, k, u, f, nodes, e, nl, o):
     """A cell's forces on its nodes in eight lanes, from lane o on:
     f[n_i] -= e (K^T U)_i, U the 24 displacements of its corners ``nodes``
-    (an 8-tuple of node indices) gathered from u, K its 24 x 24 matrix
+    (an 8-tuple of 64-bit node indices) gathered from u, K its 24 x 24 matrix
     ``k`` (flat, C order), e its eight lanes' scales (an 8-tuple); u and f
     the nodes' values flat (node n component d lane b at (3 n + d) nl + b).
     Each value of K^T U is the fused multiply-adds of its 24 terms in
@@ -91,6 +91,8 @@ def cell8(typingctx, k, u, f, nodes, e, nl, o):
     of U loaded once, six outputs accumulated at a time, each k[j, i]
     broadcast.  On these small products BLAS's packing of the operands
     costs as much as its multiplications; this costs less than half."""
+    if nodes.dtype.bitwidth != 64:          # the indices' arithmetic below is 64-bit
+        return None
     sig = types.void(k, u, f, nodes, e, types.intp, types.intp)
 
     def codegen(context, builder, signature, args):
@@ -98,11 +100,9 @@ def cell8(typingctx, k, u, f, nodes, e, nl, o):
         nds, ev, nl, o = args[3:]
         fma = builder.module.globals.get("llvm.fma.v8f64") or ir.Function(
             builder.module, ir.FunctionType(_V8, [_V8, _V8, _V8]), "llvm.fma.v8f64")
-        wide = signature.args[3].dtype.bitwidth >= 64
 
         def vec(p, i):          # the eight lanes of the cell's value i (corner i // 3, component i % 3)
             nd = builder.extract_value(nds, i // 3)
-            nd = nd if wide else builder.sext(nd, _I64)
             at = builder.add(builder.mul(builder.add(builder.mul(nd, ir.Constant(_I64, 3)), ir.Constant(_I64, i % 3)),
                                          nl), o)
             return builder.bitcast(builder.gep(p, [at]), _V8.as_pointer())
@@ -266,15 +266,25 @@ def _load(lf, fext, mg, g, gon):
 
 
 @njit(**_INLINE)
+def _load8(lf, fext, mgrav, at, mo, o, g, gon):
+    """The applied loads of a component in eight lanes, from lane o on
+    (``at`` and ``mo``: its first lane's place in fext and in mgrav)."""
+    return (_load(lf[o], fext[at], mgrav[mo], g, gon), _load(lf[o + 1], fext[at + 1], mgrav[mo + 1], g, gon),
+            _load(lf[o + 2], fext[at + 2], mgrav[mo + 2], g, gon), _load(lf[o + 3], fext[at + 3], mgrav[mo + 3], g, gon),
+            _load(lf[o + 4], fext[at + 4], mgrav[mo + 4], g, gon), _load(lf[o + 5], fext[at + 5], mgrav[mo + 5], g, gon),
+            _load(lf[o + 6], fext[at + 6], mgrav[mo + 6], g, gon), _load(lf[o + 7], fext[at + 7], mgrav[mo + 7], g, gon))
+
+
+@njit(**_INLINE)
 def _velocity(ff, vo, m, vp, vf, alpha, dt, fixed):
-    """The component's new velocity (advance._advance_nodes)."""
+    """The component's new velocity (advance.advance_nodes)."""
     fd = ff - alpha * abs(ff) * ((vo > 0.0) - (vo < 0.0))
     return vf * vp if fixed else vo + dt * fd / m
 
 
 @njit(**_CALL)
 def advance_nodes(gon, grav, vf, ctl, nodes, sums, nl):
-    """advance._advance_nodes across the lanes, eight at a time: the forces,
+    """advance.advance_nodes across the lanes, eight at a time: the forces,
     velocities and displacements of every component, then per lane the
     four sums in the order of the components, held in registers (sums
     (4, S): sum |F| free, sum |applied|, kinetic energy, work rate)."""
@@ -289,13 +299,7 @@ def advance_nodes(gon, grav, vf, ctl, nodes, sums, nl):
             at = k * nl + o
             mo = (k // 3) * nl + o
             g = grav[k % 3]
-            load = (_load(lf[o], fext[at], mgrav[mo], g, gon), _load(lf[o + 1], fext[at + 1], mgrav[mo + 1], g, gon),
-                    _load(lf[o + 2], fext[at + 2], mgrav[mo + 2], g, gon),
-                    _load(lf[o + 3], fext[at + 3], mgrav[mo + 3], g, gon),
-                    _load(lf[o + 4], fext[at + 4], mgrav[mo + 4], g, gon),
-                    _load(lf[o + 5], fext[at + 5], mgrav[mo + 5], g, gon),
-                    _load(lf[o + 6], fext[at + 6], mgrav[mo + 6], g, gon),
-                    _load(lf[o + 7], fext[at + 7], mgrav[mo + 7], g, gon))
+            load = _load8(lf, fext, mgrav, at, mo, o, g, gon)
             f0 = load8(f, at)
             ff = (f0[0] + load[0], f0[1] + load[1], f0[2] + load[2], f0[3] + load[3], f0[4] + load[4],
                   f0[5] + load[5], f0[6] + load[6], f0[7] + load[7])
@@ -327,14 +331,7 @@ def advance_nodes(gon, grav, vf, ctl, nodes, sums, nl):
                       wk[3] + -ff[3] * vv[3], wk[4] + -ff[4] * vv[4], wk[5] + -ff[5] * vv[5],
                       wk[6] + -ff[6] * vv[6], wk[7] + -ff[7] * vv[7])
             else:
-                load = (_load(lf[o], fext[at], mgrav[mo], g, gon),
-                        _load(lf[o + 1], fext[at + 1], mgrav[mo + 1], g, gon),
-                        _load(lf[o + 2], fext[at + 2], mgrav[mo + 2], g, gon),
-                        _load(lf[o + 3], fext[at + 3], mgrav[mo + 3], g, gon),
-                        _load(lf[o + 4], fext[at + 4], mgrav[mo + 4], g, gon),
-                        _load(lf[o + 5], fext[at + 5], mgrav[mo + 5], g, gon),
-                        _load(lf[o + 6], fext[at + 6], mgrav[mo + 6], g, gon),
-                        _load(lf[o + 7], fext[at + 7], mgrav[mo + 7], g, gon))
+                load = _load8(lf, fext, mgrav, at, mo, o, g, gon)
                 m = load8(mass, at)
                 unbal = (unbal[0] + abs(ff[0]), unbal[1] + abs(ff[1]), unbal[2] + abs(ff[2]), unbal[3] + abs(ff[3]),
                          unbal[4] + abs(ff[4]), unbal[5] + abs(ff[5]), unbal[6] + abs(ff[6]), unbal[7] + abs(ff[7]))

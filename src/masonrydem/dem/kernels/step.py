@@ -17,11 +17,11 @@ one entry per combination actually used.
 """
 import math
 
-from numba import literally, njit
+from numba import literally, njit, typeof
 from numba.extending import overload
 
 from . import lanes as L
-from .advance import _advance_bodies, _advance_nodes, _point_loads
+from .advance import advance_bodies, advance_nodes, point_loads
 from .cells import cell_forces
 from .joints import contact_forces
 from .layout import H_KE, H_MON, H_RATIO, H_STEP, JOINT_BEARING, ST_NONFINITE, ST_OK, Bodies, Cells, Contacts, Nodes, Zones
@@ -152,10 +152,10 @@ def _one_lane(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cell
         contact_forces(jlaw, rigid, large, dt, nodes, bodies, joints)
         contact_forces(JOINT_BEARING, rigid, large, dt, nodes, bodies, bearings)
         if rigid:
-            _point_loads(lf, bodies)
-            unbal, applied, ke, wk = _advance_bodies(gon, grav, vf, alpha, dt, nodes, bodies)
+            point_loads(lf, bodies)
+            unbal, applied, ke, wk = advance_bodies(gon, grav, vf, alpha, dt, nodes, bodies)
         else:
-            unbal, applied, ke, wk = _advance_nodes(gon, lf, grav, vf, alpha, dt, nodes)
+            unbal, applied, ke, wk = advance_nodes(gon, lf, grav, vf, alpha, dt, nodes)
         work[0] += dt * wk
         if work[0] > work[1]:
             work[1] = work[0]
@@ -178,8 +178,8 @@ def _rigid_lanes(zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, zones, cel
         ln, lb = lane_nodes(nodes, b), lane_bodies(bodies, b)
         contact_forces(jlaw, 1, large, ctl.dt[b], ln, lb, lane_contacts(joints, b, nl))
         contact_forces(JOINT_BEARING, 1, large, ctl.dt[b], ln, lb, lane_contacts(bearings, b, nl))
-        _point_loads(ctl.lf[b], lb)
-        sums[0, b], sums[1, b], sums[2, b], sums[3, b] = _advance_bodies(gon, grav, vf[b], alpha[b], ctl.dt[b], ln,
+        point_loads(ctl.lf[b], lb)
+        sums[0, b], sums[1, b], sums[2, b], sums[3, b] = advance_bodies(gon, grav, vf[b], alpha[b], ctl.dt[b], ln,
                                                                          lb)
 
 
@@ -296,7 +296,6 @@ def specialised(args):
     (about 5 ms: 0.2 s of a study run's 40 chunks); the specialisation
     found once runs at once.  Falls back to ``run_chunk_entry`` if none
     matches."""
-    from numba import typeof
     run_chunk_entry(*args[:LITERALS], 0, *args[LITERALS + 1:])  # compiled (or loaded from the cache) for these literals
     literals = tuple(int(x) for x in args[:LITERALS])
     types = tuple(typeof(x) for x in args[LITERALS:])

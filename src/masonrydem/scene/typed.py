@@ -1,11 +1,12 @@
 """Scenes: a specimen described in YAML (files.read_scene reads it),
-validated once into a typed, frozen ``Scene`` (build.py builds the model
-from it).
+validated once into a typed, frozen ``Scene`` of plain data: numbers,
+tuples and names (specimen.build maps it to the solver's types; nothing
+here imports the solver).
 
-A scene (schema: scene_schema.yaml, with each setting's default) declares
-geometry, physics, materials, loading, numerics and outputs.  ``build_scene`` reads it, applies ``--set`` overrides and a
-study's settings, and checks it;
-every error names the field (a dotted path, as the scene writes it) and the
+A scene (schema: schema.yaml, with each setting's default) declares
+geometry, physics, materials, loading, numerics and outputs.
+``build_scene`` reads it, applies ``--set`` overrides and a study's
+settings, and checks it; every error names the field (a dotted path, as the scene writes it) and the
 reason.  Refused before anything is allocated: a NaN or an infinity, a
 value the schema does not allow, a test whose geometry makes no sense, and
 a model too large for the machine's memory (``model_size``).  Nothing
@@ -19,26 +20,48 @@ import numpy as np
 from jsonschema import Draft202012Validator, validators
 
 from .bending import check_loading, placed
-from ..dem.blocks import refine_axes
 from ..errors import InputError, check_finite
 from .files import apply_overrides, read_scene, read_yaml, set_value
-from ..dem.laws import BLOCK_MODELS, JOINT_LAWS, Elastic, MohrCoulomb
-from ..dem.solver import Numerics
 from .masonry import Geometry, JointFields, UnitFields, joint_fields, unit_fields
 from .quantities import check_plausible, convert, schema_at
 from .size import check_size
 
-SCHEMA = read_yaml(resources.files(__package__).joinpath("scene_schema.yaml").read_text())
-# the choices of physics come from the tables of laws (laws.py)
+
+@dataclass(frozen=True)
+class BlockModel:
+    """A block model a scene can declare (``physics.blocks``): its units'
+    material by name (specimen.build maps it to the solver's class), rigid
+    or deformable, and whether each unit is split at its crack plane by a
+    potential-crack interface."""
+    name: str
+    material: str         # elastic, or mohr-coulomb (tension softening)
+    rigid: bool
+    crack_interface: bool = False
+
+    @property
+    def plastic(self):
+        return self.material == "mohr-coulomb"
+
+
+BLOCK_MODELS = {m.name: m for m in (
+    BlockModel("rigid", "elastic", True),
+    BlockModel("elastic", "elastic", False),
+    BlockModel("elasto-plastic", "mohr-coulomb", False),
+    BlockModel("potential-crack", "elastic", False, crack_interface=True),
+)}
+
+SCHEMA = read_yaml(resources.files(__package__).joinpath("schema.yaml").read_text())
+# the choices of block model come from the table above; the joint laws'
+# names are the schema's own enum (the solver's dem.laws.JOINT_LAWS, a test
+# checks that they are the same names)
 SCHEMA["properties"]["physics"]["properties"]["blocks"]["enum"] = list(BLOCK_MODELS)
-SCHEMA["properties"]["physics"]["properties"]["joints"]["enum"] = list(JOINT_LAWS)
 
 
 @dataclass(frozen=True)
 class Physics:
     """The effects the scene declares (the solver runs nothing else)."""
-    blocks: str           # laws.BLOCK_MODELS
-    joints: str           # laws.JOINT_LAWS
+    blocks: str           # BLOCK_MODELS
+    joints: str           # the solver's joint law (dem.laws.JOINT_LAWS)
     gravity: bool
     large: bool           # large displacements (rigid blocks only)
 
@@ -82,6 +105,8 @@ class Bending:
     strip_stiffness_ratio: float
     strips_turn: bool
     strip_friction: float
+    section_as_built: bool = True   # no section_height written: the wall's built height
+    spans_in_units: bool = False    # the spans written in unit lengths (shear_span_units)
 
     @property
     def shear_span(self):
@@ -110,13 +135,21 @@ class Refine:
 class Discretization:
     """The scene's numerics in space and in the record: cells per unit,
     sub-contacts and how often a run records its state.  (How the solver
-    integrates, damping and safety, is the solver's ``Numerics``.)"""
+    integrates, damping and safety: ``Integration``.)"""
     elastic_element: str
     cells: tuple
     refine: Refine
     refine_label: str     # as the rows record it: '2', '1x2x1' or 'head:1x2x1'
     rule: str             # the joints' sub-contact rule: simpson, or vertices (3DEC's)
     record_every: int
+
+
+@dataclass(frozen=True)
+class Integration:
+    """How the solver integrates: local damping and the safety factor on
+    the critical step (specimen.build makes them the solver's Numerics)."""
+    damping: float
+    safety: float
 
 
 @dataclass(frozen=True)
@@ -141,7 +174,7 @@ class Scene:
     materials: Materials
     loading: Loading
     discretization: Discretization
-    numerics: Numerics    # the solver's: how it integrates
+    integration: Integration
     outputs: Outputs
     description: str = ""
     settings: dict = None  # the validated mapping, SI, every default filled in
@@ -205,13 +238,13 @@ def validate_scene(scene):
         raise InputError("materials.units.psi", f"dilation is modelled on the crack interfaces of potential-crack "
                          f"units only; {phys.blocks} units have none")
     check_size(g, phys, num, loading, _default_discretization())   # before anything that takes time in proportion to the model's size
-    if phys.model.material is MohrCoulomb and (reason := g.crack_band_error(num.cells[0])):
+    if phys.model.plastic and (reason := g.crack_band_error(num.cells[0])):
         raise InputError("numerics.cells.0", f"{reason} (the default cells are the potential-crack units'; "
                                              "elasto-plastic units come within 2 % on 15x7x5: docs/accuracy.md)")
     check_loading(g, loading)
     return Scene(name=scene["name"], description=scene.get("description", ""), geometry=g, physics=phys,
                  materials=_materials(scene["materials"], g), loading=loading, discretization=num,
-                 numerics=Numerics(damping=scene["numerics"]["damping"], safety=scene["numerics"]["safety"]),
+                 integration=Integration(damping=scene["numerics"]["damping"], safety=scene["numerics"]["safety"]),
                  outputs=Outputs(**scene["outputs"]), settings=scene)
 
 
@@ -275,7 +308,8 @@ def _loading(lo, g, given=()):
                                    section_height=b.get("section_height", g.built_height),
                                    strip_width=b["strip_width"],
                                    strip_stiffness_ratio=b["strip_stiffness_ratio"], strips_turn=b["strips_turn"],
-                                   strip_friction=b["strip_friction"]))
+                                   strip_friction=b["strip_friction"], section_as_built="section_height" not in b,
+                                   spans_in_units="shear_span_units" in b))
 
 
 KINDS = ("head", "bed", "crack", "strips")
@@ -289,9 +323,15 @@ def _default_discretization():
 def _discretization(n):
     raw = n["subcontact_refine"]
     per_kind = {k: raw.get(k, 1) for k in KINDS} if isinstance(raw, dict) else dict.fromkeys(KINDS, raw)
-    refine = Refine(**{k: refine_axes(v) for k, v in per_kind.items()})
+    refine = Refine(**{k: _axes(v) for k, v in per_kind.items()})
     return Discretization(elastic_element=n["elastic_element"], cells=tuple(n["cells"]), refine=refine,
                           refine_label=refine_label(raw), rule=n["subcontact_rule"], record_every=n["record_every"])
+
+
+def _axes(refine):
+    """A refinement as one integer per global axis (the schema has checked
+    it: one integer >= 1, or three)."""
+    return (int(refine),) * 3 if isinstance(refine, int) else tuple(int(r) for r in refine)
 
 
 def refine_label(refine):

@@ -17,6 +17,7 @@ range ("did you mean 0.15 MPa?").  A scene widens a range on purpose under
 ``plausible``: ``plausible: {materials.joints.ft: ["0.001 MPa", "20 MPa"]}``.
 """
 import re
+from decimal import Decimal
 from functools import lru_cache
 
 from ..errors import InputError
@@ -57,9 +58,7 @@ def to_shown(value, unit):
 @lru_cache(maxsize=None)
 def registry():
     """pint's unit registry in decimal arithmetic (loaded on first use)."""
-    from decimal import Decimal
-
-    import pint
+    import pint         # on first use: 0.2 s
     return pint.UnitRegistry(non_int_type=Decimal)
 
 
@@ -258,7 +257,6 @@ def _show(x, unit):
 
 def _convert(x, unit, to):
     """The number ``x`` in ``unit`` as a float in ``to`` (decimal arithmetic)."""
-    from decimal import Decimal
     return float(registry().Quantity(Decimal(repr(float(x))), unit).to(to).magnitude)
 
 

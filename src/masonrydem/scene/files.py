@@ -1,7 +1,7 @@
 """Reading a scene: its YAML file and the ``--set`` overrides, each
 refused before anything is built when it is malformed (not UTF-8 text or
 not YAML, a key given twice, an alias bomb), naming the setting as the
-file or the command line writes it.  scene.py validates what this reads."""
+file or the command line writes it.  typed.py validates what this reads."""
 import re
 
 import yaml

@@ -4,7 +4,6 @@ memory (``check_size``), before anything is allocated."""
 import os
 from dataclasses import replace
 
-from ..dem.laws import Elastic
 from ..errors import InputError
 
 
@@ -46,7 +45,7 @@ def model_size(g, physics, disc, loading):
     platen = bool(loading.precompression.platen and loading.precompression.pressure)
     subs += platen * g.units_per_course * simpson(along, r.strips[0], b, r.strips[1])
     hexes = 0 if model.rigid else units * a * b * c
-    zones = model.material is not Elastic or disc.elastic_element == "zones"
+    zones = model.material != "elastic" or disc.elastic_element == "zones"
     turns = strips if bend.strips_turn and not model.rigid else 0     # a turning strip's second node
     size = dict(nodes=strips + turns + platen + units * (pieces if model.rigid else (a + pieces) * (b + 1) * (c + 1)),
                 tetrahedra=10 * hexes if zones else 0, cells=0 if zones else hexes, sub_contacts=subs)
