@@ -198,3 +198,24 @@ def test_scatter_level_is_the_nearest_to_the_middle_of_the_range():
     t = A.Level("t_mm", "t", "mm")
     assert A.scatter_level(pd.DataFrame(dict(t_mm=[8.0, 10.0, 11.0, 16.0])), t) == 11.0
     assert A.scatter_level(runs, SV, near=0.11) == 0.075 and A.scatter_level(runs, SV, near=0.4) == 0.5
+
+
+def test_a_run_stopped_before_its_peak_was_certain_is_a_lower_bound():
+    """Drive 7.5e-8 m per step, window 0.1 mm: 1333.3 steps.  Stopped by
+    the displacement limit 1333 steps after its peak (0.09998 mm): a lower
+    bound, not ok, its row kept with why; 1334 steps (0.10005 mm) after, or
+    stopped by the load drop, or failed: as they were.  The report names
+    the bound among the runs left out."""
+    from masonrydem.report.captions import excluded_detail
+    runs = pd.DataFrame({"status": ["displacement_limit", "displacement_limit", "load_drop", "diverged",
+                                    "displacement_limit"],
+                         "ok": [True, True, True, False, True], "steps": [14500, 14500, 14500, 300, 14500],
+                         "peak_step": [14500 - 1333, 14500 - 1334, 14499, 200, 14500],
+                         "message": ["displacement 0.00101 m reached"] * 2 + ["load", "nan", "displacement"]})
+    out = A.lower_bounds(runs, 7.5e-8, 1e-4)
+    assert list(out.status) == ["lower_bound", "displacement_limit", "load_drop", "diverged", "lower_bound"]
+    assert list(out.ok) == [False, True, True, False, False] and list(runs.ok) == [True, True, True, False, True]
+    assert "moved 0.1 mm past the peak, less than the 0.1 mm" in out.message[0] and "0 mm past" in out.message[4]
+    assert out.message[1] == runs.message[1]
+    assert excluded_detail(out) == " (lower_bound: 2, diverged: 1)" and excluded_detail(runs.iloc[:3]) == ""
+    assert A.lower_bounds(runs.iloc[1:4], 7.5e-8, 1e-4).equals(runs.iloc[1:4])

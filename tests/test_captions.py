@@ -216,12 +216,14 @@ def test_equations_caption():
     assert "- the predictor, the joint equation alone (43 runs): MAPE **7.0 %**, failure mode right in **93 %**" in text
 
 
-def test_design_table_and_caption(willis, columns):
+def test_design_table_and_caption(willis, columns, monkeypatch):
     """One joint equation sigma = 0.1 + sigma_v (as the lower of two it
     stands for both): at the mean properties it is 0.1 + sigma_v; the
     caption reads the table at the simulated levels (0.25 MPa interpolated).
     The design rules read f_tj and f_tu of the wallette of mean properties:
-    the Willis study's means, 0.3 and 3.75 MPa."""
+    the Willis study's means, 0.3 and 3.75 MPa.  The figure's prediction
+    names the equations fitted, is not drawn without one, and its axis is
+    the study's level (p here)."""
     eq = dict(intercept=0.1, coef=dict(zip(willis.features, [0.0, 0.0, 0.0, 0.0, 1.0])))
     ns = pd.DataFrame(dict(sample=[0, 1, 0, 1], f_tu_mpa=[3.0, 4.0, 3.0, 4.0], f_tj_mpa=[0.2, 0.4, 0.2, 0.4],
                            sigma_v_mpa=[0.0, 0.0, 0.5, 0.5], strength_mpa=[0.1, 0.1, 0.6, 0.6]))
@@ -245,6 +247,15 @@ def test_design_table_and_caption(willis, columns):
             "**0.350 MPa** on average over the samples") in text
     assert captions.design_comparison(design, simulated, [], 0.02, 2, inputs, "nonspatial")["equations"] == \
         "no equation (too few runs)"
+    saved = []
+    monkeypatch.setattr(figures, "_save", lambda fig, path: saved.append(fig))
+    for fitted in (["joint", "brick"], ["joint"], []):
+        figures.design_comparison(design, simulated, "x.png", "nonspatial", analysis.Level("p_mpa", "p", "MPa"), fitted)
+    labels = [[t.get_text() for t in fig.axes[0].get_legend().get_texts()] for fig in saved]
+    assert labels[0][0] == "prediction at mean properties (lower of the joint and brick equations)"
+    assert labels[1][0].startswith("prediction at mean properties (joint equation alone: too few runs")
+    assert not any(x.startswith("prediction") or "over the samples" in x for x in labels[2])
+    assert all(fig.axes[0].get_xlabel() == "$p$ (MPa)" for fig in saved)
 
 
 def _sweep():
@@ -335,3 +346,21 @@ def test_the_study_figures_have_a_panel_per_variant_and_none_empty(monkeypatch, 
         assert len(running.axes) == len(variants) and all(ax.lines for ax in running.axes)
         assert len(correlation.axes) == len(variants) and all(ax.lines for ax in correlation.axes)
         assert len(by_mode.axes) == 2 * len(variants) and all(ax.lines for ax in by_mode.axes)
+
+
+def test_the_small_study_says_in_words_what_its_7_samples_cannot_give():
+    """The committed 7-sample study (config/studies/small.yaml): no caption
+    prints 'undefined' or 'nan'; the sensitivity caption gives the runs and
+    why there are no indices; a missing brick equation is named with why;
+    no page of a table has a column without a value."""
+    report = Path("results/studies/small/report")
+    texts = {p.name: " ".join(p.read_text().split()) for p in report.glob("*.rst")}
+    assert len(texts) >= 14
+    for name, text in texts.items():
+        assert not re.search(r"\bundefined\b|\bnan\b", text, re.I), name
+    assert "per_wall, 0 MPa: 7 runs, too few for a surrogate" in texts["sensitivity.rst"]
+    assert "- brick failure (" in texts["equations.rst"] and "too few runs to fit" in texts["equations.rst"]
+    for page in (report / "tables").glob("*.html"):
+        for row in re.findall(r"<tr>(.*?)</tr>", page.read_text(), re.S):
+            cells = re.findall(r"<td>(.*?)</td>", row, re.S)
+            assert not cells or any(c.strip() for c in cells), page.name

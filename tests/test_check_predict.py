@@ -126,6 +126,26 @@ def test_predict_refuses_inputs_outside_the_fitted_range(predictor, args, option
     assert "230 x 65 x 114 mm" in e.value.reason or "length" in words or "no unit" in words
 
 
+def test_predict_shows_a_lab_fitted_inputs_lab_value_beside_the_models():
+    """f_tj fitted to a lab's bond-wrench results with the factor 2/3: the
+    printout gives the model's 0.3 MPa and the lab's 0.45 MPa beside it; a
+    lab value typed where the model's is asked for (0.9 MPa, outside the
+    fitted 0.1 to 0.8) is refused with the conversion, 0.9 x 2/3 = 0.6."""
+    ns = _synthetic()
+    fits, _, _ = equations.prediction_equations(ns, TERMS, COLUMNS)
+    record = {"f_tj": {"conversion": {"factor": 2 / 3, "source": "EN 1992-1-1:2004, 3.1.8(1), by analogy"},
+                       "lab": {"quantity": "flexural bond strength"}}}
+    p = predict.build(fits, ns, build_scene(WILLIS), "synthetic runs", COLUMNS, UNITS, "synthetic",
+                      labs=predict.lab_conversions(record))
+    lines = predict.predict(p, f_tu="5 MPa", f_tj="0.3 MPa", sigma_v="0.2 MPa").lines()
+    assert ("f_tj 0.3 MPa (the lab's flexural bond strength 0.45 MPa x 0.6667: EN 1992-1-1:2004)"
+            in lines[2]) and "f_tu 5 MPa," in lines[2]
+    with pytest.raises(InputError) as e:
+        predict.predict(p, f_tu="5 MPa", f_tj="0.9 MPa", sigma_v="0.2 MPa")
+    assert ("f_tj is the model's value, 0.6667 x the lab's flexural bond strength (EN 1992-1-1:2004): a lab value "
+            "of 0.9 MPa is f_tj = 0.6 MPa") in e.value.reason
+
+
 def test_predict_on_the_command_line(tmp_path, predictor):
     path = tmp_path / "predictor.json"
     path.write_text(json.dumps(predictor))
@@ -465,3 +485,36 @@ def test_check_says_what_a_study_s_sample_count_will_give(tmp_path, samples):
     assert (f"Sobol indices: {samples} runs per variant and level" in out) == (samples >= 10)
     assert (f"has no lower end ({samples} runs per variant and level; it needs {need})" in out) == (samples < need)
     assert ("non-parametric one's interval has both ends" in out) == (samples >= need)
+
+
+def test_check_suggests_a_value_and_its_source_for_each_missing_material_property(tmp_path):
+    """Each material property the scene schema requires, left out of the
+    small study's scene: the scene is refused naming it, with a value and
+    its source (the command line: exit 2, once); that value put back, the
+    scene passes.  A value said to be the source paper's model is the
+    Willis scene's (the scene of that model)."""
+    import yaml
+    from masonrydem.pipeline.check import SUGGESTED, explained
+    from masonrydem.scene import SCHEMA, to_si
+    mats = SCHEMA["properties"]["materials"]["properties"]
+    required = {f"materials.{k}.{p}" for k in ("units", "joints") for p in mats[k]["required"]}
+    assert required <= set(SUGGESTED)
+    willis = yaml.safe_load(open(WILLIS))["materials"]
+    for key in sorted(required):
+        _, part, prop = key.split(".")
+        raw = yaml.safe_load(open("config/scenes/solid.yaml"))
+        del raw["materials"][part][prop]
+        with pytest.raises(InputError) as e:
+            build_scene(raw)
+        value, source = SUGGESTED[key]
+        assert str(explained(e.value)) == (f"{key}: missing: a scene gives every material property; where you "
+                                           f"have no value of your own, {value} is {source}")
+        raw["materials"][part][prop] = value if " " in value else float(value)
+        build_scene(raw)
+        if "the source paper's model" in source:
+            unit = mats[part]["properties"][prop].get("unit", "")
+            assert to_si(value, unit, key) == pytest.approx(willis[part][prop]), key
+    del raw["materials"]["joints"]["ks_ratio"]
+    (tmp_path / "scene.yaml").write_text(yaml.safe_dump(raw))
+    r = _cli("check", str(tmp_path / "scene.yaml"))
+    assert r.returncode == 2 and "materials.joints.ks_ratio: missing" in r.stderr and "0.4 is k_s = 0.4 k_n" in r.stderr

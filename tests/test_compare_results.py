@@ -49,6 +49,23 @@ def test_a_changed_value_or_a_missing_run_fails_and_is_named(tmp_path, capsys):
     assert "left_only" in capsys.readouterr().out
 
 
+def test_runs_are_matched_by_the_study_s_own_level_column(tmp_path, capsys):
+    """A study that calls its level p (statistics.csv's second column
+    p_mpa, no sigma_v_mpa in its runs): its runs are matched by p_mpa; a
+    run moved to another level is a difference."""
+    for name in ("a", "b"):
+        root = _results(tmp_path / name, [12.5, 14.0, 15.0])
+        runs = pd.read_parquet(root / "study" / "runs.parquet").rename(columns={"sigma_v_mpa": "p_mpa"})
+        if name == "b":
+            runs.loc[2, "p_mpa"] = 0.25
+        runs.to_parquet(root / "study" / "runs.parquet")
+        pd.DataFrame(dict(variant=["nonspatial"], p_mpa=[0.0], mode=["all"], count=[2])).to_csv(
+            root / "study" / "statistics.csv", index=False)
+    assert compare_results.main([str(tmp_path / "a"), str(tmp_path / "b")]) == 1
+    out = capsys.readouterr().out
+    assert "study runs: 2 of 4 identical; 2 differ or are missing" in out and "p_mpa" in out
+
+
 def test_a_copied_table_is_not_counted_as_reproduced(tmp_path, capsys):
     a = _results(tmp_path / "a", [12.5, 14.0, 15.0])
     b = _results(tmp_path / "b", [12.5, 14.0, 15.0])

@@ -215,7 +215,7 @@ class Study:
 
 STUDIES = {"willis": Study("willis", RESULTS, RESULTS / "report"),
            **{n: Study(n, RESULTS / "studies" / n, RESULTS / "studies" / n / "report")
-              for n in ("nf", "geometry", "waal", "waal_lab")}}
+              for n in ("nf", "geometry", "waal", "waal_lab", "small")}}
 TOP = STUDIES["willis"]
 
 
@@ -245,12 +245,22 @@ def flat(text):
     return " ".join(text.split())
 
 
+def words_as_undefined(text):
+    """The words a caption prints for a value or an interval's end too few
+    runs cannot give (analysis.fractiles.span and _mpa, the Shapiro-Wilk
+    p) read as 'undefined', the NaN of the tables."""
+    text = text.replace("no interval at this many runs", "undefined to undefined")
+    text = text.replace("no lower end at this many runs, up to ", "undefined to ")
+    text = re.sub(rf"from ({NUM})( %)?, no upper end at this many runs", r"\1 to undefined\2", text)
+    return text.replace("none (too few runs)", "undefined").replace("not computed (fewer than 3 runs)", "undefined")
+
+
 class Check:
     """The numbers of one printed text compared with their sources: how
     many, where (spans in the flattened text) and what disagrees."""
 
     def __init__(self, text, what):
-        self.text, self.what = flat(text), what
+        self.text, self.what = words_as_undefined(flat(text)), what
         self.n, self.spans, self.problems, self.flagged = 0, [], [], set()
 
     def fail(self, message, *spans):
@@ -339,8 +349,8 @@ def segments(ck, head, within=None):
 
 
 def either(names):
-    """A regex of any of the names, the longest first."""
-    return "|".join(sorted(map(re.escape, set(names)), key=len, reverse=True))
+    """A regex of any of the names, the longest first (none: one that never matches)."""
+    return "|".join(sorted(map(re.escape, set(names)), key=len, reverse=True)) or "(?!)"
 
 
 def listed(ck, span, expected):
@@ -391,7 +401,7 @@ def c_increase(ck, s):
     inc = s.tab("increase")
     pct = dict(increase=100, increase_lo=100, increase_hi=100)
     recs = [inc.record(i, scale=pct) for i in inc.rows() if not inc.iv(i, "increase").nan]
-    ck.lines("{variant:w} {mode:w} **{increase} %** ({increase_lo} to {increase_hi} %)", recs, ("variant", "mode"))
+    ck.lines("{variant:w} {mode:w} **{increase} %** ({increase_lo} to {increase_hi}[? %?])", recs, ("variant", "mode"))
     levels = s.runs[s.level]
     ck.one("(from {lo} to {hi} MPa)", dict(lo=exact(levels.min()), hi=exact(levels.max())))
     ck.one("(from {sigma_from} to {sigma_to} MPa)", inc.record(0))
@@ -676,8 +686,9 @@ def c_paper_comparison(ck, s):
             for item, g in groups]
     ck.lines(re.compile(r"(?:(?<=interval: )|(?<=; ))(?P<item>[^:;]+): \*\*(?P<k>\d+) of (?P<n>\d+)\*\*"), recs,
              ("item",), within=("inside our 95 % interval: ", " - all-data"))
-    for m in ck.find("failures (of {n} runs)"):      # the scorecard's counts are of the fitted variant's runs
-        ck.value(m, "n", count((s.runs.ok & (s.runs.variant == s.variant)).sum()))
+    paper_runs = sum(yml("config/paper.yaml")["failures"].values())
+    for m in ck.find("failures (of {n} runs)"):      # our share of each mode, counted of the paper's runs
+        ck.value(m, "n", count(paper_runs))
     means = card.rows(item="F_max mean (kN)", mode="all")
     ck.lines("{level} MPa {ours} / {paper} kN (**{difference_pct} %**)", level_records(s, card, means), ("level",))
     diffs = [card.iv(i, "difference_pct") for i in means]
@@ -754,7 +765,11 @@ def c_workflow(ck, s):
     ck.one("Unit model: {blocks:t}; {cells:t} cells per unit, sub-contact refinement {subcontact_refine:t}: the "
            "defaults", one)
     ck.one("Solver version {solver_version:w}. ", one)
-    ck.one("{excluded} of {total} runs did not reach", dict(excluded=count((~runs.ok).sum()), total=count(len(runs))))
+    m = ck.one("{excluded} of {total} runs are left out of the statistics[? ({detail:x})?]:",
+               dict(excluded=count((~runs.ok).sum()), total=count(len(runs))))
+    for status, n in runs.status[~runs.ok].value_counts().items():
+        if m:
+            ck.one(f"{status}: {{n}}", dict(n=count(n)), within=m.span("detail"))
     seconds = float(np.sum(runs.wall_time_s / runs.lanes))
     hours = seconds >= 3600
     ck.one("Summed run time {t} core-{unit:w}.", dict(t=exact(seconds / 3600 if hours else seconds / 60),
@@ -1052,20 +1067,25 @@ def c_geometry_formats(ck, s):
 
 def c_design(ck, s):
     """The design value per level (waal_lab's design/design.csv), the lab
-    sheets' numbers of results (the study file's provenance), the
-    resamples and the partial factor (the workflow's design settings)."""
+    sheets' numbers of results, their means, conversion factors and the
+    model's means (the study file's provenance and variables), the draws
+    and the partial factor (the workflow's design settings)."""
     t = tab(s.root / "design/design.csv")
     cfg = yml(f"config/studies/{s.name}_workflow.yaml")["design"]
-    lab = [dict(name=n, n=count(v["provenance"]["n"])) for n, v in s.file["variables"].items() if "provenance" in v]
+    lab = [dict(name=n, n=count(v["provenance"]["n"]), quantity=v["provenance"]["lab"]["quantity"],
+                lab_mean=Iv(float(v["provenance"]["lab"]["mean"].split()[0])),
+                factor=Iv(v["provenance"]["conversion"]["factor"]), model_mean=Iv(float(v["mean"].split()[0])))
+           for n, v in s.file["variables"].items() if "provenance" in v]
     m = ck.one("fitted to a lab's results ({lab:t}).", {})
     if m:
-        ck.lines("{name:w} ({n} results)", lab, ("name",), within=m.span("lab"))
-    ck.one("finite number of runs: {n} resamples,", dict(n=count(cfg["resamples"])))
+        ck.lines("{name:w}, {n} results of the lab's {quantity:t}, mean {lab_mean} MPa x {factor} ({source:x}) = the "
+                 "model's mean {model_mean} MPa", lab, ("name",), within=m.span("lab"), skip=("source",))
+    ck.one("finite number of runs: {n} draws of every lab fit's parameters", dict(n=count(cfg["draws"])))
     ck.one("Design values divide by gamma_M = {g:g} (", dict(g=Iv(cfg["gamma_M"])))
     recs = [dict(r, level=r[t.df.columns[0]]) for r in map(t.record, t.rows())]
     ck.lines("- {level} MPa: f_xk {f_xk_mpa} MPa ({f_xk_lo_mpa} to {f_xk_hi_mpa}; lab only {lab_only_lo_mpa} to "
              "{lab_only_hi_mpa}, runs only {runs_only_lo_mpa} to {runs_only_hi_mpa}; {basis:w}, {runs} runs, ESS "
-             "{ess}, median over resamples {ess_median}), design f_xk / {gamma_M:g} = {f_xd_mpa} MPa; "
+             "{ess}, median over the draws {ess_median}), design f_xk / {gamma_M:g} = {f_xd_mpa} MPa; "
              "EN 1996-1-1 f_xk2 {f_xk2_mpa} MPa (design {f_xd2_mpa})[?; AS 3700 stepped {as3700_stepped_mpa}, "
              "line {as3700_line_mpa} MPa?]", recs, ("level",))
 
@@ -1267,6 +1287,15 @@ def test_every_study_sweeps_a_level_in_mpa():
     """The captions print a level as '<value> MPa' (Level.text), which is
     how the checks below read them: every study's swept column is in MPa."""
     assert all(s.level.endswith("_mpa") for s in STUDIES.values())
+
+
+def test_a_study_names_its_precompression_once_by_its_own_name():
+    """A study whose swept precompression it calls p (waal, waal_lab,
+    small) has one column for it in its runs table, p_mpa: no sigma_v_mpa
+    beside it; a study that calls it sigma_v keeps sigma_v_mpa."""
+    for s in STUDIES.values():
+        assert s.level in s.runs and ("sigma_v_mpa" in s.runs) == (s.level == "sigma_v_mpa"), s.name
+    assert {n for n, s in STUDIES.items() if s.level == "p_mpa"} == {"waal", "waal_lab", "small"}
 
 
 @pytest.mark.parametrize("name", sorted(CAPTIONS))

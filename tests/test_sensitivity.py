@@ -374,3 +374,15 @@ def test_the_interval_of_draws_whose_indices_are_known():
     lo, hi = S.interval(np.array([0.01, 0.99]), np.array([np.linspace(0.0, 0.04, 1001), np.linspace(0.96, 1.0, 1001)]))
     np.testing.assert_allclose(lo, [0.0, 0.96 + 0.001], atol=1e-12)
     np.testing.assert_allclose(hi, [0.04 - 0.001, 1.0], atol=1e-12)
+
+
+def test_a_study_too_small_for_indices_says_so_instead_of_an_empty_figure():
+    """7 runs per variant and level, below the 10 a surrogate needs: the
+    table has no index, and the words say how many runs there are, how
+    many it takes and what to give; with indices, no such words."""
+    t = pd.DataFrame(dict(variant="v", sigma_v_mpa=[0.0, 0.5], mode="all", runs=7))
+    assert S.no_indices(t) == ("No Sobol indices: at most 7 runs per variant and level, fewer than the 10 a surrogate "
+                               "needs (give the study samples: 10 or more)")
+    assert S.no_indices(t.assign(runs=40, ST=np.nan)) == \
+        "No Sobol indices: the inputs the runs record do not explain their strength"
+    assert S.no_indices(t.assign(runs=40, ST=[np.nan, 0.3])) is None

@@ -57,15 +57,17 @@ import pandas as pd
 
 COMPARED = ["P_max_kN", "steps", "failure_mode", "status"]
 # tables of single runs (relative to a study's folder), their run keys, what to call them
+# (LEVEL: the study's swept level column, by the study's name: level_column)
+LEVEL = "<level>"
 TABLES = [
-    ("study/runs.parquet", ["variant", "sigma_v_mpa", "sample"], "study runs"),
+    ("study/runs.parquet", ["variant", LEVEL, "sample"], "study runs"),
     ("validation/summary.csv", ["run"], "validation runs"),
     ("stability/hard_cases.csv", ["run"], "hard cases"),
     ("reduced/summary.csv", ["case", "model"], "reduced-model runs"),
     ("specimens/summary.csv", ["case"], "specimen runs"),
     ("modelform/summary.csv", ["case", "sigma_v_mpa", "assumption", "option"], "model-form runs"),
     ("accuracy/runs.csv", ["case", "setting"], "accuracy runs"),
-    ("sobol_check/runs.parquet", ["variant", "sigma_v_mpa", "sample"], "Sobol check runs"),
+    ("sobol_check/runs.parquet", ["variant", LEVEL, "sample"], "Sobol check runs"),
 ]
 
 
@@ -181,10 +183,18 @@ def studies(committed):
     return [Path(".")] + sorted(p.relative_to(committed) for p in below)
 
 
+def level_column(folder):
+    """A study's swept level column, as its statistics table names it (its
+    second column: variant, level, mode); sigma_v_mpa without one."""
+    stats = folder / "study" / "statistics.csv"
+    return pd.read_csv(stats, nrows=0).columns[1] if stats.is_file() else "sigma_v_mpa"
+
+
 def expected(committed, study):
     """The tables a committed study holds: (kind, path relative to the
     study, its keys, its name), kind 'runs', 'derived' or 'predictor'."""
-    kinds = [("runs", t, keys, name) for t, keys, name in TABLES]
+    level = level_column(committed / study)
+    kinds = [("runs", t, [level if k == LEVEL else k for k in keys], name) for t, keys, name in TABLES]
     kinds += [("derived", t, n_keys, name) for t, n_keys, name in DERIVED]
     kinds += [("predictor", PREDICTOR[0], None, PREDICTOR[1])]
     return [k for k in kinds if (committed / study / k[1]).is_file()]

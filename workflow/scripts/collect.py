@@ -12,14 +12,22 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 
 import pandas as pd  # noqa: E402
 
-from masonrydem.analysis.statistics import check_one_solver, of_study  # noqa: E402
+from masonrydem.analysis.statistics import check_one_solver, lower_bounds, of_study  # noqa: E402
+from masonrydem.pipeline import plan  # noqa: E402
+from masonrydem.scene import PRECOMPRESSION, build_scene  # noqa: E402
+from masonrydem.specimen.protocol import DROP_WINDOW  # noqa: E402
 from masonrydem.specimen.row import atomic_write, downsample, read_json  # noqa: E402
 
 spec = sm.params.analysis
 level = spec["level_column"]
-runs = pd.DataFrame([read_json(p) for p in sm.input.results])
+runs = lower_bounds(pd.DataFrame([read_json(p) for p in sm.input.results]),
+                    build_scene(plan.study(sm.config).scene).loading.drive.rate, DROP_WINDOW)
 if level not in runs:
     runs[level] = [sm.params.levels[Path(p).parent.parent.name] for p in sm.input.results]
+if spec["setting"] == PRECOMPRESSION and level != "sigma_v_mpa" and "sigma_v_mpa" in runs:
+    # the precompression is the study's level: one column, by the study's name (p_mpa)
+    assert ((runs.sigma_v_mpa - runs[level]).abs() <= 1e-9 * runs[level].abs().max()).all()
+    runs = runs.drop(columns="sigma_v_mpa")
 print("solver", check_one_solver(runs, of_study(spec)[0]))
 missing = [col for name, col in spec["columns"].items() if name in spec["means"] and col not in runs]
 if missing:

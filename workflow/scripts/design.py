@@ -20,7 +20,7 @@ runs = pd.read_parquet(sm.input.runs)
 runs = runs[runs.variant == study.regression_variant]
 lab, sampling, columns, as3700 = design.study_inputs(study, cfg.get("bond"), cfg.get("units"))
 table = design.design_table(runs, level.column, columns, sampling, lab, cfg["gamma_M"],
-                            design.FXK2_CLAY[cfg["fxk2"]], as3700, cfg["seed"], cfg["resamples"])
+                            design.FXK2_CLAY[cfg["fxk2"]], as3700, cfg["seed"], cfg["draws"])
 table.to_csv(sm.output.table, index=False, float_format="%.4g")
 print(table.to_string())
 lines = design.caption_lines(table, level.column, level.unit)
@@ -29,6 +29,6 @@ title = "The wallette's characteristic flexural strength from the lab's results,
 open(sm.output.page, "w").write(tables.html_table(table, title))
 captions.write_caption(sm.input.template, sm.output.caption, lines="\n".join(f"- {x}" for x in lines),
                        variant=study.regression_variant, fxk2=cfg["fxk2"], gamma_M=f"{cfg['gamma_M']:g}",
-                       resamples=cfg["resamples"],
+                       draws=cfg["draws"],
                        as3700=design.as3700_words(as3700, cfg.get("bond"), cfg.get("units")),
-                       lab=", ".join(f"{n} ({len(v)} results)" for n, (_, v) in lab.items()))
+                       lab=design.lab_words(study))

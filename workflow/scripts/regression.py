@@ -13,6 +13,7 @@ import pandas as pd  # noqa: E402
 from masonrydem.analysis import equations as E  # noqa: E402
 from masonrydem.analysis import predict  # noqa: E402
 from masonrydem.analysis import validation as V  # noqa: E402
+from masonrydem.analysis.statistics import of_study  # noqa: E402
 from masonrydem.pipeline import plan  # noqa: E402
 from masonrydem.report import captions  # noqa: E402
 from masonrydem.report import figures as F  # noqa: E402
@@ -34,7 +35,8 @@ with open(sm.output.predictor, "w") as f:       # masonrydem predict
     skipped = {r["mode"]: r["equation"] for r in rows if r["mode"] in ("joint", "brick") and r["mode"] not in fits}
     json.dump(predict.build(fits, ns, scene, f"its {len(ns)} ok {variant} runs", columns, reg["units"], variant,
                             sm.params.settings,
-                            study=reg["study"], level=reg["level"], skipped=skipped), f, indent=1)
+                            study=reg["study"], level=reg["level"], skipped=skipped,
+                            labs=predict.lab_conversions(plan.study(sm.config).provenance)), f, indent=1)
 print(pd.DataFrame(rows).to_string())
 captions.write_captions(sm.input.templates[:1], sm.output.captions[:1],
                         dict(equations=captions.equations(rows, terms, variant)))
@@ -44,7 +46,7 @@ if reg["precompression"]:
     table = V.design_table(fits, ns, resid_sd, np.linspace(runs[level].min(), runs[level].max(), 51), design,
                            reg["means"], columns, reg["level"], level)
     simulated = ns.groupby(level).strength_mpa.agg(["mean", "std"])
-    F.design_comparison(table, simulated, sm.output.design, variant)
+    F.design_comparison(table, simulated, sm.output.design, variant, of_study(reg)[0], list(fits))
     table.to_csv(sm.output.design_table, index=False, float_format="%.5g")
     captions.write_captions(sm.input.templates[1:], sm.output.captions[1:], dict(
         design_comparison=captions.design_comparison(table, simulated, list(fits), resid_sd, runs["sample"].nunique(),

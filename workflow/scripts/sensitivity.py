@@ -7,6 +7,7 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 import pandas as pd  # noqa: E402
 
 from masonrydem.report import captions  # noqa: E402
+from masonrydem.report import figures as F  # noqa: E402
 from masonrydem.pipeline import plan  # noqa: E402
 from masonrydem.analysis import sensitivity as S  # noqa: E402
 from masonrydem.analysis.statistics import of_study  # noqa: E402
@@ -23,7 +24,10 @@ table = S.sensitivity_table(runs, level, [spec["columns"][v.name] for v in varia
                             seed=sm.params.seed, jobs=sm.threads)
 table = S.with_pearson(table, pd.read_csv(sm.input.correlations), level)
 table.to_csv(sm.output.table, index=False, float_format="%.4g")
-S.figure(table, sm.output.figure, level)
+if S.no_indices(table):
+    F.placeholder(S.no_indices(table), sm.output.figure)
+else:
+    S.figure(table, sm.output.figure, level)
 print(table.to_string())
 captions.write_caption(sm.input.template, sm.output.caption,
                        **S.caption_values(table, level, variables, study.correlations))

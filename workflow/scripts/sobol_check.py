@@ -8,16 +8,19 @@ sys.stderr = sys.stdout = open(sm.log[0], "w")
 import pandas as pd  # noqa: E402
 
 from masonrydem.analysis import sobol_check as C  # noqa: E402
-from masonrydem.analysis.statistics import of_study  # noqa: E402
+from masonrydem.analysis.statistics import lower_bounds, of_study  # noqa: E402
 from masonrydem.pipeline import plan  # noqa: E402
 from masonrydem.report import captions  # noqa: E402
+from masonrydem.scene import build_scene  # noqa: E402
+from masonrydem.specimen.protocol import DROP_WINDOW  # noqa: E402
 from masonrydem.specimen.row import atomic_write, read_json  # noqa: E402
 
 check, spec = sm.params.check, sm.params.analysis
 level, _ = of_study(spec)
 study = plan.study(sm.config)
 columns = [spec["columns"][v.name] for v in study.variables]
-runs = pd.DataFrame([read_json(p) for p in sm.input.results]).sort_values("sample", ignore_index=True)
+runs = lower_bounds(pd.DataFrame([read_json(p) for p in sm.input.results]).sort_values("sample", ignore_index=True),
+                    build_scene(study.scene).loading.drive.rate, DROP_WINDOW)
 atomic_write(sm.output.runs, lambda p: runs.to_parquet(p, index=False))
 direct = C.direct_indices(runs.strength_mpa, runs.ok, len(columns), check["resamples"], check["seed"])
 s = pd.read_csv(sm.input.sensitivity)

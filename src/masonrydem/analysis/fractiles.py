@@ -107,7 +107,19 @@ def with_design(table, design, level):
 
 
 def _mpa(x):
-    return "undefined" if pd.isna(x) else f"{x:.3f}"
+    return "none (too few runs)" if pd.isna(x) else f"{x:.3f}"
+
+
+def span(lo, hi, spec=".3f", unit=""):
+    """An interval's ends in words, 'lo to hi unit'; an end that too few
+    runs cannot give is named as missing, not printed as a number."""
+    if pd.isna(lo) and pd.isna(hi):
+        return "no interval at this many runs"
+    if pd.isna(lo):
+        return f"no lower end at this many runs, up to {format(hi, spec)}{unit}"
+    if pd.isna(hi):
+        return f"from {format(lo, spec)}{unit}, no upper end at this many runs"
+    return f"{format(lo, spec)} to {format(hi, spec)}{unit}"
 
 
 def caption_values(table, level):
@@ -117,11 +129,11 @@ def caption_values(table, level):
         rd = r._asdict()
         design = ", ".join(f"{k[:-4].replace('_', ' ')} {v:.3f}" for k, v in rd.items()
                            if k.startswith(("lg_", "as3700_")))
-        p_sw = "undefined" if pd.isna(r.shapiro_p_log) else f"{r.shapiro_p_log:.2f}"
+        p_sw = "not computed (fewer than 3 runs)" if pd.isna(r.shapiro_p_log) else f"{r.shapiro_p_log:.2f}"
         lines.append(f"{r.variant}, {level.text(rd[level.column])}: **{_mpa(r.characteristic_mpa)} MPa** "
                      f"({r.supported}; {r.n} runs, mean {r.mean_mpa:.3f} MPa); lognormal {_mpa(r.lognormal_mpa)} "
-                     f"({_mpa(r.lognormal_mpa_lo)} to {_mpa(r.lognormal_mpa_hi)}), non-parametric "
-                     f"{_mpa(r.empirical_mpa)} ({_mpa(r.empirical_mpa_lo)} to {_mpa(r.empirical_mpa_hi)}), "
+                     f"({span(r.lognormal_mpa_lo, r.lognormal_mpa_hi)}), non-parametric "
+                     f"{_mpa(r.empirical_mpa)} ({span(r.empirical_mpa_lo, r.empirical_mpa_hi)}), "
                      f"Shapiro-Wilk p on the logs {p_sw}" + (f"; design rules at the mean properties: {design} MPa"
                                                              if design else ""))
     supported = int((table.supported == "lognormal").sum())

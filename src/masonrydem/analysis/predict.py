@@ -28,7 +28,7 @@ from ..errors import InputError
 from ..scene import is_plain, meant, shown, to_shown, to_si
 
 def build(fits, ns, scene, source, columns, units, variant, settings=None, study=None, level=None,
-          skipped=None):
+          skipped=None, labs=None):
     """The predictor of the fitted equations ``fits`` (equations.
     prediction_equations: mode -> (equation, strengths)) on the runs
     ``ns``, for the wallette of the typed ``scene``; ``source``: where the
@@ -42,7 +42,8 @@ def build(fits, ns, scene, source, columns, units, variant, settings=None, study
     ``level``: its swept input's name, whose levels' shares of each
     failure mode among the runs are kept (``predict`` warns where a mode
     it has no equation for occurs); ``skipped``: mode -> why it has no
-    equation."""
+    equation; ``labs``: input -> its lab fit's conversion (lab_conversions),
+    so that a lab's value and the model's are shown side by side."""
     from ..study.terms import parse_term
     used = dict.fromkeys(name for eq, _ in fits.values() for term in eq["coef"] for name in parse_term(term, units)[1])
     g, bend = scene.geometry, scene.loading.bending
@@ -60,13 +61,32 @@ def build(fits, ns, scene, source, columns, units, variant, settings=None, study
         source=source, study=study, scene=scene.name, variant=variant, modes=modes, skipped=dict(skipped or {}),
         level=level, mode_shares=shares,
         inputs={name: dict(unit=units[name], shown=shown(units[name])[0], column=columns[name],
-                            **({"setting": settings[name]} if name in (settings or {}) else {})) for name in used},
+                            **({"setting": settings[name]} if name in (settings or {}) else {}),
+                            **({"lab": labs[name]} if name in (labs or {}) else {})) for name in used},
         fitted_range={name: [float(ns[columns[name]].min()), float(ns[columns[name]].max())] for name in used},
         wallette=dict(courses=g.courses, units_per_course=g.units_per_course,
                       unit_mm=[g.unit_length * 1e3, g.unit_height * 1e3, g.unit_width * 1e3],
                       joint_mm=g.joint_thickness * 1e3, section_height_m=bend.section_height,
                       thickness_m=g.unit_width, shear_span_m=bend.shear_span,
                       section_as_built=bend.section_as_built, spans_in_units=bend.spans_in_units))
+
+
+def lab_conversions(provenance):
+    """Input -> (factor, the lab's quantity, the conversion's source) of a
+    study's lab-fitted variables (Study.provenance: masonrydem fit's
+    records): the model's value is the factor times the lab's."""
+    return {name: dict(factor=r["conversion"]["factor"], quantity=r["lab"]["quantity"],
+                       source=r["conversion"]["source"]) for name, r in provenance.items()}
+
+
+def _as_lab(value, spec):
+    """' (the lab's flexural bond strength 0.3453 MPa x 0.6667, EN ...)'
+    for a lab-fitted input, else ''."""
+    lab = spec.get("lab")
+    if not lab:
+        return ""
+    return (f" (the lab's {lab['quantity']} {value / lab['factor']:.4g} {spec['shown']} x {lab['factor']:.4g}: "
+            f"{lab['source'].split(',')[0]})")
 
 
 BRICK = ("geometry.unit.length", "geometry.unit.height", "geometry.unit.width", "geometry.joint_thickness")
@@ -110,6 +130,7 @@ class Prediction:
     wallette: dict
     source: str
     warnings: tuple = ()        # what the answer cannot vouch for (a mode without its equation)
+    specs: dict = None          # input -> the predictor's record of it (its lab conversion, if any)
 
     def lines(self):
         w = self.wallette
@@ -120,7 +141,8 @@ class Prediction:
                f"the equations of {self.source}, {which}: {_wallette(w)}; section "
                f"b = {w['section_height_m']:g} m, thickness h = {w['thickness_m']:g} m, shear span a = "
                f"{w['shear_span_m']:.4g} m (sigma = 6 M / (b h^2), M = P a / 2)",
-               "  " + ", ".join(f"{k} {v:g} {self.units[k]}".rstrip() for k, v in self.inputs.items())]
+               "  " + ", ".join(f"{k} {v:g} {self.units[k]}".rstrip() + _as_lab(v, (self.specs or {}).get(k, {}))
+                                for k, v in self.inputs.items())]
         out += [f"  {m} failure: {s:.3f} MPa" for m, s in self.by_mode.items()]
         lo, hi = self.interval_mpa
         out.append(f"governing: {self.mode} failure, strength {self.strength_mpa:.3f} MPa (95 % prediction interval "
@@ -178,7 +200,7 @@ def predict(study, options=None, scene=None, **inputs):
     return Prediction(strength_mpa=s, mode=mode, interval_mpa=interval, load_kN=s * to_kN,
                       interval_kN=tuple(v * to_kN for v in interval), by_mode=by_mode, inputs=x,
                       units={k: spec["shown"] for k, spec in p["inputs"].items()},
-                      wallette=w, source=source, warnings=tuple(_warnings(p, x, by_mode)))
+                      wallette=w, source=source, warnings=tuple(_warnings(p, x, by_mode)), specs=p["inputs"])
 
 
 def _interval(modes, by_mode):
@@ -236,6 +258,18 @@ def _same_wallette(p, scene):
                                     "results/studies/geometry/study/predictor.json)")
 
 
+def _lab_hint(name, x, spec):
+    """Where a refused input is lab-fitted: how a lab's value becomes the
+    model's (a lab value typed where the model's is asked for is the
+    likeliest slip)."""
+    lab = spec.get("lab")
+    if not lab:
+        return ""
+    return (f"; {name} is the model's value, {lab['factor']:.4g} x the lab's {lab['quantity']} "
+            f"({lab['source'].split(',')[0]}): a lab value of {x:.4g} {spec['shown']} is {name} = "
+            f"{x * lab['factor']:.4g} {spec['shown']}")
+
+
 def _checked(p, name, spec, inputs, option):
     """The input ``name`` in the unit shown, refused outside the fitted range."""
     if name not in inputs:
@@ -252,7 +286,7 @@ def _checked(p, name, spec, inputs, option):
         guess = meant(float(value), unit, lo * size, hi * size) if plain else None
         raise InputError(option, f"{f'{float(value):g} {unit}'.rstrip() if plain else value} is outside the range "
                                  f"the equations were fitted on, {lo:.3g} to {hi:.3g} {spec['shown']}".rstrip()
-                         + (f": did you mean {guess}?" if guess else "")
+                         + (f": did you mean {guess}?" if guess else "") + _lab_hint(name, x, spec)
                          + f" (they hold only there, and only for the wallette of the scene {p['scene']!r}: "
                          f"{_wallette(p['wallette'])})")
     return x

@@ -265,6 +265,19 @@ def with_pearson(table, corr, level):
     return out.assign(pearson_sq=out.pearson ** 2)
 
 
+def no_indices(table):
+    """Why a sensitivity table has no index at all, in words (None where it
+    has some)."""
+    if "ST" in table and table.ST.notna().any():
+        return None
+    runs = table.loc[table["mode"] == "all", "runs"]
+    most = int(runs.max()) if len(runs) else 0
+    if most < MIN_RUNS:
+        return (f"No Sobol indices: at most {most} runs per variant and level, fewer than the {MIN_RUNS} a "
+                f"surrogate needs (give the study samples: {MIN_RUNS} or more)")
+    return "No Sobol indices: the inputs the runs record do not explain their strength"
+
+
 def figure(table, path, level):
     """S1 and ST with their intervals against the level, one panel per
     mode, beside the squared Pearson correlations (dashed), the variant

@@ -6,7 +6,8 @@ A runs table has one row per simulation with at least: variant, the swept
 level (its column: ``level``), sample, failure_mode, ok (the run reached
 its stop criteria), P_max_kN, strength_mpa and the study's random inputs
 (their columns: ``inputs``, as the study file names them, f_tj_mpa).  Runs
-that are not ``ok`` are excluded from every statistic and counted.
+that are not ``ok`` (failed, or stopped before their peak was certain:
+lower_bounds) are excluded from every statistic and counted.
 ``level`` (a Level: its column, name and unit) names the swept setting.
 """
 import itertools
@@ -52,6 +53,28 @@ def check_one_solver(runs, level):
                          f"({counts.iloc[0]} runs): {names}{' ...' if len(odd) > 10 else ''}; rerun them "
                          f"(snakemake --forcerun <their result files>)")
     return counts.index[0] if len(counts) else None
+
+
+LIMIT = "displacement_limit"     # the stop that ends a run without saying its peak was passed
+
+
+def lower_bounds(runs, rate, window):
+    """The runs table with each run whose peak is not certain marked as a
+    lower bound: stopped by the displacement limit (status LIMIT) when its
+    drive had moved less than ``window`` (m: the post-peak branch a row
+    describes, specimen.protocol.DROP_WINDOW) past its peak, at ``rate``
+    (m per step, the scene's drive), its load may still have been rising.
+    Such a run gets status 'lower_bound' and is not ok (left out of every
+    statistic, fit and fractile, and counted); its row is kept, with why."""
+    travel = (runs.steps - runs.peak_step) * rate
+    bound = runs.status.eq(LIMIT) & (travel < window)
+    if not bound.any():
+        return runs
+    why = [f"{m}; the drive moved {1e3 * t:.3g} mm past the peak, less than the {1e3 * window:g} mm that make a "
+           "peak certain: the strength is a lower bound" for m, t in zip(runs.message[bound], travel[bound])]
+    out = runs.copy()
+    out.loc[bound, "status"], out.loc[bound, "ok"], out.loc[bound, "message"] = "lower_bound", False, why
+    return out
 
 
 def _cov(x):

@@ -151,11 +151,45 @@ def _shown(x, unit):
 
 
 _UNEXPECTED = re.compile(r"Additional properties are not allowed \('([^']+)' was unexpected\)")
+_REQUIRED = re.compile(r"'([^']+)' is a required property")
+_IN_STUDY = re.compile(r".*the scene refuses it: (?P<field>[\w.]+): (?P<reason>.*)")
+_STUDY = "the source paper's model (docs/study.md, section 3)"
+# what a scene's material property may be set to where the user has no value
+# of their own, and where that value comes from
+SUGGESTED = {
+    "materials.units.E": ("15 GPa", "the source paper's bricks (docs/study.md, section 3); take your units' own"),
+    "materials.units.nu": ("0.2", _STUDY),
+    "materials.units.ft": ("3.75 MPa", "the source paper's bricks (docs/study.md, section 3); take your units' own"),
+    "materials.units.c_ratio": ("1.5", f"c_u = 1.5 f_tu, {_STUDY}"),
+    "materials.units.phi": ("35 deg", "not given by the source paper: the committed scenes' choice "
+                                      "(docs/study.md, section 3)"),
+    "materials.units.density": ("1900 kg/m^3", "the Willis scene's, a fired-clay brick's; quasi-static runs scale "
+                                               "the masses (docs/formulation.md)"),
+    "materials.joints.ft": ("0.30 MPa", "the source paper's mean bond (docs/study.md, section 3); take your "
+                                        "bond-wrench tests' (docs/lab-to-design.md)"),
+    "materials.joints.c_ratio": ("1.2", f"c_j = 1.2 f_tj, {_STUDY}"),
+    "materials.joints.phi": ("35 deg", f"initial and residual, {_STUDY}"),
+    "materials.joints.GII_ratio": ("10.0", f"G_II = 10 G_I, {_STUDY}"),
+    "materials.joints.Em_ratio": ("0.1", f"E_m = 0.1 E_b, {_STUDY}"),
+    "materials.joints.ks_ratio": ("0.4", f"k_s = 0.4 k_n, {_STUDY}"),
+}
 
 
 def explained(error):
     """An InputError of a scene, with a suggestion where one fits: a key the
-    scene's schema does not know is named with the nearest one it does."""
+    scene's schema does not know is named with the nearest one it does; a
+    missing material property with a value and where it comes from
+    (SUGGESTED)."""
+    field, reason = error.field, error.reason
+    nested = _IN_STUDY.fullmatch(reason)            # a study's scene: 'the scene refuses it: FIELD: REASON'
+    if nested:
+        field, reason = nested["field"], nested["reason"]
+    required = _REQUIRED.fullmatch(reason)
+    if required and f"{field}.{required[1]}" in SUGGESTED:
+        value, source = SUGGESTED[f"{field}.{required[1]}"]
+        return InputError(f"{field}.{required[1]}", ("in the study's scene: " if nested else "")
+                          + f"missing: a scene gives every material property; where you have no value of your "
+                            f"own, {value} is {source}")
     m = _UNEXPECTED.fullmatch(error.reason)
     if not m:
         return error

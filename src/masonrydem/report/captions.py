@@ -10,6 +10,14 @@ import pandas as pd
 
 from ..analysis import accuracy
 from ..analysis import statistics as A
+from ..analysis.fractiles import span
+
+
+def excluded_detail(runs):
+    """The runs left out of the statistics by status: ' (lower_bound: 1,
+    diverged: 2)', or '' where none is."""
+    bad = runs.status[~runs.ok].value_counts()
+    return " (" + ", ".join(f"{k}: {v}" for k, v in bad.items()) + ")" if len(bad) else ""
 
 
 def write_caption(template, path, **values):
@@ -123,12 +131,11 @@ def statistics(runs, stats, corr, inc, level, inputs, report):
         cov = A.input_spread(runs, variant, inputs)
         return f"{variant}: " + (", ".join(f"{n} {v:.3f}" for n, v in cov.items()) if cov else "none run")
 
-    bad = runs[~runs.ok]
     stat_lines = [f"{r.variant}, {level.text(getattr(r, level.column))}: mean **{r.P_max_mean_kN:.2f} kN** "
-                  f"({num(r.P_max_mean_kN_lo, '.2f')} to {num(r.P_max_mean_kN_hi, '.2f')}; "
-                  f"{r.strength_mean_mpa:.3f} MPa), COV **{r.P_max_cov:.3f}** ({num(r.P_max_cov_lo, '.3f')} to "
-                  f"{num(r.P_max_cov_hi, '.3f')}), {r.count} runs, {100 * r.brick_share:.0f} % brick failures "
-                  f"({num(100 * r.brick_share_lo, '.0f')} to {num(100 * r.brick_share_hi, '.0f')} %)"
+                  f"({span(r.P_max_mean_kN_lo, r.P_max_mean_kN_hi, '.2f')}; "
+                  f"{r.strength_mean_mpa:.3f} MPa), COV **{num(r.P_max_cov, '.3f')}** "
+                  f"({span(r.P_max_cov_lo, r.P_max_cov_hi)}), {r.count} runs, {100 * r.brick_share:.0f} % brick "
+                  f"failures ({span(100 * r.brick_share_lo, 100 * r.brick_share_hi, '.0f', ' %')})"
                   for r in stats[stats["mode"] == "all"].itertuples()]
     corr_lines = []
     for r in corr[corr["mode"] == "all"].itertuples():
@@ -137,14 +144,13 @@ def statistics(runs, stats, corr, inc, level, inputs, report):
         corr_lines.append(f"{r.variant}, {level.text(getattr(r, level.column))}: {top} ({vals[top]:+.2f}); "
                           + ", ".join(f"{n} {v:+.2f}" for n, v in vals.items()))
     return dict(
-        statistics=dict(excluded=len(bad), total=len(runs), lines=_bullets(stat_lines),
-                        excluded_detail=(" (" + ", ".join(f"{k}: {v}" for k, v in bad.status.value_counts().items())
-                                         + ")") if len(bad) else ""),
+        statistics=dict(excluded=int((~runs.ok).sum()), total=len(runs), lines=_bullets(stat_lines),
+                        excluded_detail=excluded_detail(runs)),
         correlations=dict(lines=_bullets(corr_lines), noise=noise, inputs=", ".join(inputs),
                           fields=FIELDS_NOTE if any(d != "wallette" for d in report["draws"].values()) else "",
                           spreads="; ".join(spread(v) for v in sorted(runs.variant.unique()))),
         increase=dict(lines="; ".join(f"{r.variant} {r.mode} **{100 * r.increase:+.0f} %** "
-                                      f"({num(100 * r.increase_lo, '+.0f')} to {num(100 * r.increase_hi, '+.0f')} %)"
+                                      f"({span(100 * r.increase_lo, 100 * r.increase_hi, '+.0f', ' %')})"
                                       for r in inc.dropna(subset=["increase"]).itertuples())
                       + f" (from {levels[0]:g} to {level.text(levels[-1])})"))
 

@@ -180,26 +180,31 @@ def predicted_vs_simulated(fits, path):
     _save(fig, path)
 
 
-def design_comparison(design, simulated, path, variant):
-    """The design table (validation.design_table) against sigma_v: the
-    lower-of-two prediction at mean properties with a +-1 SD band, its mean
-    over the sampled properties, the Lourenco-Gaetani and AS3700 rules,
-    beside the simulated strengths of ``variant`` (``simulated``: mean and
-    std by sigma_v_mpa)."""
+def design_comparison(design, simulated, path, variant, level, fitted):
+    """The design table (validation.design_table) against the swept
+    precompression ``level`` (analysis.Level): the prediction at mean
+    properties with a +-1 SD band, its mean over the sampled properties,
+    the Lourenco-Gaetani and AS3700 rules, beside the simulated strengths
+    of ``variant`` (``simulated``: mean and std by level).  ``fitted``: the
+    modes with an equation; the prediction's label names them (the lower of
+    two, or the one fitted alone), and without any no prediction is drawn."""
     levels = design.iloc[:, 0]
     pred, band = design.prediction, design.band_sd
     fig, ax = plt.subplots(figsize=(10, 4.5))
-    ax.plot(levels, pred, "k-", lw=2, label="prediction at mean properties (lower of two)")
-    ax.fill_between(levels, pred - band, pred + band, color="k", alpha=0.15,
-                    label="+- 1 SD of the prediction over the samples")
-    ax.plot(levels, design.mean_over_samples, "k--", lw=1.2, label="mean of the prediction over the samples")
+    if fitted:
+        ax.plot(levels, pred, "k-", lw=2, label="prediction at mean properties " + (
+            "(lower of the joint and brick equations)" if len(fitted) == 2 else
+            f"({fitted[0]} equation alone: too few runs failed otherwise to fit the other)"))
+        ax.fill_between(levels, pred - band, pred + band, color="k", alpha=0.15,
+                        label="+- 1 SD of the prediction over the samples")
+        ax.plot(levels, design.mean_over_samples, "k--", lw=1.2, label="mean of the prediction over the samples")
     ax.plot(levels, design.lg_stepped, "--", color="tab:blue", label="Lourenco-Gaetani stepped")
     ax.plot(levels, design.lg_brick, "--", color="tab:red", label="Lourenco-Gaetani brick")
     ax.plot(levels, design.as3700_stepped, ":", color="tab:blue", lw=2, label="AS3700 stepped")
     ax.plot(levels, design.as3700_line, ":", color="tab:red", lw=2, label="AS3700 line")
     ax.errorbar(simulated.index, simulated["mean"], yerr=simulated["std"], fmt="o", color="tab:green", capsize=3,
                 label=f"simulated mean +- 1 SD ({variant})")
-    ax.set_xlabel(SIGMA_V)
+    ax.set_xlabel(_axis(level))
     ax.set_ylabel("strength (MPa)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
@@ -327,10 +332,11 @@ def accuracy_subsample(paired, path):
 
 
 def placeholder(text, path):
-    """A picture that says why there is none."""
+    """A picture that says why there is none (the words wrapped to its width)."""
+    import textwrap
     fig, ax = plt.subplots(figsize=(8, 2))
     ax.axis("off")
-    ax.text(0.5, 0.5, text, ha="center", va="center")
+    ax.text(0.5, 0.5, textwrap.fill(text, 90), ha="center", va="center")
     fig.savefig(path)
     plt.close(fig)
 

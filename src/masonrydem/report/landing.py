@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from .captions import num
+from .captions import excluded_detail, num
 
 
 def modelform_band(summary):
@@ -112,7 +112,7 @@ def landing(runs, stats, excluded, level, report, source, card=None, band=None):
                 n_levels=len(levels), level=level.name,
                 levels=f"{', '.join(f'{x:g}' for x in levels)} {level.unit}".rstrip(),
                 blocks=one("blocks"), cells=one("cells"), refine=one("subcontact_refine"),
-                solver=one("solver_version"), excluded=excluded,
+                solver=one("solver_version"), excluded=excluded, excluded_detail=excluded_detail(runs),
                 cpu=_core_time(float(np.sum(runs.get("wall_time_s", np.nan) / runs.get("lanes", 1)))),
                 table=_rst_table(head, rows), paper=paper_findings(card, band))
 

@@ -70,8 +70,11 @@ def _cell(x):
 
 def readable(table):
     """The page's table: key columns first, intervals joined, values as
-    text (a frame of strings with HTML headers)."""
+    text (a frame of strings with HTML headers); a column without a single
+    value (an output too few runs cannot give: the caption says why) is
+    left out."""
     cols = [c for c in KEYS if c in table] + [c for c in table if c not in KEYS]
+    cols = [c for c in cols if table[c].notna().any()]
     out = {}
     for c in cols:
         if c.endswith(("_lo", "_hi")) and c[:-3] in table:
