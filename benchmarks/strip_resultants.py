@@ -68,7 +68,7 @@ def main():
         scene = build_scene(args.scene, args.set + [f"loading.bending.strip_width={w}"])
         P, xs, strips = at_peak(scene)
         bend = scene.loading.bending
-        centre = 0.5 * (min(bend.supports_x) + max(bend.supports_x))
+        centre = 0.5 * (min(bend.supports) + max(bend.supports))
         shifts = {s.name: (x - s.x0[0]) * np.sign(centre - s.x0[0]) * 1e3 for s, x in zip(strips, xs)}
         supports, loads = (sorted(x for s, x in zip(strips, xs) if s.name.startswith(kind))
                            for kind in ("support", "load"))
@@ -76,7 +76,7 @@ def main():
         print(f"strip width {w * 1e3:4.0f} mm: P_max {P:7.3f} kN; shift toward the centre (mm): "
               + ", ".join(f"{k} {v:+.1f}" for k, v in shifts.items())
               + f"; arms of the resultants {', '.join(f'{1e3 * a:.1f}' for a in arm)} mm (nominal "
-              f"{1e3 * (min(bend.loads_x) - min(bend.supports_x)):.0f})", flush=True)
+              f"{1e3 * (min(bend.loads) - min(bend.supports)):.0f})", flush=True)
 
 
 if __name__ == "__main__":

@@ -270,7 +270,7 @@ cli.main(["check", "config/studies/willis.yaml"])
 print(len(scenes), len(studies), "numba" in sys.modules, any(m.startswith("masonrydem.dem") for m in sys.modules))
 """
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
-    assert out.stdout.split()[-4:] == ["7", "10", "False", "False"], out.stdout[-2000:]
+    assert out.stdout.split()[-4:] == ["9", "10", "False", "False"], out.stdout[-2000:]
 
 
 def test_the_study_draws_its_samples_by_its_variants():

@@ -474,3 +474,26 @@ def test_the_crack_penalty_as_the_runs_give_it():
     acc = _flat(DOCS["docs/accuracy.md"])
     assert (f"{change('brick_sv0')} % in brick failure, {change('mixed_sv05')} % in mixed failure, "
             f"{change('joint_sv0')} % at 0 MPa in joint failure" in acc)
+
+
+def test_the_vertical_defaults_as_quoted():
+    """docs/accuracy.md's vertical-bending table is
+    results/accuracy/vertical.csv's largest error per candidate, the
+    references' distance from the finer ones as quoted, and the vertical
+    defaults it names are the schema's default_vertical."""
+    runs = pd.read_csv(RESULTS / "accuracy/vertical.csv")
+    worst = runs.groupby("candidate").error.agg(lambda e: e.abs().max())
+    names = {"the horizontal defaults": "horizontal defaults", "bed joints refined, the horizontal rate":
+             "bed refined, horizontal rate", "**the vertical defaults**": "vertical defaults",
+             "bed joints refined, 1e-8 m per step": "bed refined, 1e-8"}
+    rows = _table(DOCS["docs/accuracy.md"], "| settings | largest error |")
+    assert [r[0] for r in rows] == list(names)
+    for shown, error in rows:
+        assert error == f"{100 * worst[names[shown]]:.2f} %", shown
+    acc = _flat(_section(DOCS["docs/accuracy.md"], "## Vertical bending"))
+    assert f"within {100 * worst['finer reference']:.2f} % of finer ones" in acc
+    vertical = runs[runs.candidate == "vertical defaults"].iloc[0]
+    bending = SCHEMA["properties"]["loading"]["properties"]["bending"]["properties"]
+    refine = SCHEMA["properties"]["numerics"]["properties"]["subcontact_refine"]["default_vertical"]
+    assert vertical.rate == bending["rate"]["default_vertical"] and f"{vertical.rate:.1e}".replace("e-0", "e-") in acc
+    assert vertical.bed_refine == "x".join(map(str, refine["bed"]))

@@ -39,8 +39,8 @@ def test_strip_resultants_act_on_their_lines(n):
         area = a.bearings.area[s.sc]
         x[s.name] = float(np.sum(area * a.bearing_points[s.sc, 0]) / np.sum(area))
         assert np.sum(area) == pytest.approx(bend.strip_width * 6 * 0.075, rel=1e-12)
-    lines = {**{f"support{i}": v for i, v in enumerate(bend.supports_x)},
-             **{f"load{i}": v for i, v in enumerate(bend.loads_x)}}
+    lines = {**{f"support{i}": v for i, v in enumerate(bend.supports)},
+             **{f"load{i}": v for i, v in enumerate(bend.loads)}}
     for name, want in lines.items():
         assert x[name] == pytest.approx(want, abs=1e-9)
     assert x["load0"] - x["support0"] == pytest.approx(bend.shear_span, rel=1e-3)

@@ -24,10 +24,13 @@ from scipy import stats
 from ..errors import InputError
 from . import fractiles
 
-# EN 1996-1-1's recommended f_xk2 (the plane of failure perpendicular to the
-# bed joints, N/mm2) for clay units, by mortar: read from a secondary
-# transcription of the standard's table (NOTE 2 to 3.6.3(3)), not from the
-# standard itself; check against EN 1996-1-1 and its National Annex
+# EN 1996-1-1's recommended f_xk1 and f_xk2 (the plane of failure parallel
+# and perpendicular to the bed joints, N/mm2) for clay units, by mortar:
+# read from a secondary transcription of the standard's tables (NOTE 2 to
+# 3.6.3(3)), not from the standard itself; check against EN 1996-1-1 and
+# its National Annex, which may set others
+FXK1_CLAY = {"general purpose, f_m < 5 N/mm2": 0.10, "general purpose, f_m >= 5 N/mm2": 0.10,
+             "thin layer": 0.15, "lightweight": 0.10}
 FXK2_CLAY = {"general purpose, f_m < 5 N/mm2": 0.20, "general purpose, f_m >= 5 N/mm2": 0.40,
              "thin layer": 0.15, "lightweight": 0.10}
 

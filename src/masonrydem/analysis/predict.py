@@ -66,7 +66,7 @@ def build(fits, ns, scene, source, columns, units, variant, settings=None, study
         fitted_range={name: [float(ns[columns[name]].min()), float(ns[columns[name]].max())] for name in used},
         wallette=dict(courses=g.courses, units_per_course=g.units_per_course,
                       unit_mm=[g.unit_length * 1e3, g.unit_height * 1e3, g.unit_width * 1e3],
-                      joint_mm=g.joint_thickness * 1e3, section_height_m=bend.section_height,
+                      joint_mm=g.joint_thickness * 1e3, section_height_m=bend.section,
                       thickness_m=g.unit_width, shear_span_m=bend.shear_span,
                       section_as_built=bend.section_as_built, spans_in_units=bend.spans_in_units))
 

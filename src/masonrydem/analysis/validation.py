@@ -195,6 +195,15 @@ def as3700(f_mt, f_ut, f_d):
     return stepped, line
 
 
+def as3700_vertical(f_mt, f_d):
+    """AS3700 vertical bending at mean values (capacity factor 1): the
+    bond with the precompression, f = f_mt + f_d, capped at 3 f_mt (MPa;
+    M_cv = phi f'_mt Z_d + f_d Z_d <= 3 phi f'_mt Z_d, clause 7.4.2 as a
+    secondary source gives it: docs/study.md, 14)."""
+    f_d = np.asarray(f_d, float)
+    return np.minimum(f_mt + f_d, 3.0 * f_mt)
+
+
 def design_inputs(scene):
     """What the design rules need of a typed scene (the study's wallette at
     its mean properties): the overlap l_o = bond offset x modelled unit

@@ -61,11 +61,17 @@ def summary(scene):
     cracks = g.n_units if ph.model.crack_interface else 0
     joints = f"{len(g.joints) + cracks} joints" + (f": {len(g.joints)} mortar joints and {cracks} crack interfaces "
                                                     "of the potential-crack units" if cracks else "")
+    test = scene.loading.test
+    if test == "bending":
+        test = ("vertical bending (plane of failure parallel to the bed joints)"
+                if scene.loading.bending.direction == "vertical"
+                else "horizontal bending (plane of failure perpendicular to the bed joints)")
+    ends = ", straight ends" if g.ends == "straight" else ""
     lines = [
         f"scene {scene.name!r}: valid",
         f"  specimen: {g.courses} courses x {g.units_per_course} units of {L * 1e3:g} x {H * 1e3:g} x "
-        f"{T * 1e3:g} mm, joints {g.joint_thickness * 1e3:g} mm ({g.n_units} units, {joints})",
-        f"  physics: {ph.blocks} blocks, {ph.joints} joints; test: {scene.loading.test}",
+        f"{T * 1e3:g} mm{ends}, joints {g.joint_thickness * 1e3:g} mm ({g.n_units} units, {joints})",
+        f"  physics: {ph.blocks} blocks, {ph.joints} joints; test: {test}",
         f"  model: {size['nodes']:,} nodes, {size['tetrahedra']:,} tetrahedra, {size['cells']:,} cells, "
         f"{size['sub_contacts']:,} sub-contacts (upper estimates; cells {list(num.cells)}, "
         f"refine {num.refine_label})",

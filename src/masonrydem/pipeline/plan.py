@@ -8,6 +8,7 @@ from functools import lru_cache
 
 import yaml
 
+from ..errors import InputError
 from ..scene import PRECOMPRESSION, build_scene, to_shown
 from ..study.file import check_samples, load_study, with_levels
 
@@ -118,12 +119,17 @@ def study(config):
     a small study of the same file)."""
     s = config["study"]
     levels = tuple(str(x) for x in s["levels"]) if "levels" in s else None
-    return _study(s["file"], s.get("samples"), s.get("seed"), levels)
+    return _study(s["file"], s.get("samples"), s.get("seed"), levels, s.get("direction"))
 
 
 @lru_cache(maxsize=None)
-def _study(path, samples, seed, levels):
+def _study(path, samples, seed, levels, direction=None):
     st = load_study(path)
+    if direction is not None:
+        try:
+            st = st.in_direction(direction)
+        except InputError as e:
+            raise InputError("study.direction", e.reason) from None
     if samples is not None:
         check_samples(samples, "study.samples")
     changes = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}

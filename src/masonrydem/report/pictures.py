@@ -142,9 +142,12 @@ def picture_damage(state, path, title="", magnify=None, window=(1600, 1000), rig
                        scalar_bar_args=dict(title="mortar joint damage D", position_x=0.56, **bar))
     if rig is not None:
         (_, _, y0, y1, z0, z1) = state["zones"].bounds
-        for xs, y, color in ((rig.supports_x, y1, "black"), (rig.loads_x, y0, "darkgreen")):
+        (x0, x1, _, _, _, _) = state["zones"].bounds
+        for xs, y, color in ((rig.supports, y1, "black"), (rig.loads, y0, "darkgreen")):
             for x in xs:
-                p.add_mesh(pv.Line((x, y, z0 - 0.04), (x, y, z1 + 0.04)).tube(radius=0.004), color=color)
+                ends = (((x0 - 0.04, y, x), (x1 + 0.04, y, x)) if rig.direction == "vertical"
+                        else ((x, y, z0 - 0.04), (x, y, z1 + 0.04)))
+                p.add_mesh(pv.Line(*ends).tube(radius=0.004), color=color)
     p.add_text(f"{title}\nback (tension) face, displacements x {magnify:.0f}; bands: a joint's largest damage "
                f"through the thickness (from {SHOWN:g}); unit cells with damage >= 0.5 darkest"
                + ("\nlines: supports black (back face), loads green (front face)" if rig is not None else ""),

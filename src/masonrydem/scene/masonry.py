@@ -27,6 +27,7 @@ class Geometry:
     courses: int
     units_per_course: int
     bond_offset: float
+    ends: str = "toothed"       # or straight: the shifted courses end in cut units
 
     @property
     def modelled_unit(self):
@@ -36,12 +37,31 @@ class Geometry:
 
     @property
     def n_units(self):
-        return self.courses * self.units_per_course
+        """(In closed form: a scene's size is checked before anything
+        the size of the wall is made.)"""
+        return self.courses * self.units_per_course + int(self._cut(1)) * (self.courses // 2)
+
+    def units_in_course(self, k):
+        """How many units course k has: units_per_course, and one more
+        (two cut ones for one whole) in a shifted course with straight ends."""
+        return self.units_per_course + int(self._cut(k))
+
+    def _cut(self, k):
+        return self.ends == "straight" and k % 2 == 1 and 0.0 < self.bond_offset < 1.0
+
+    def unit_spans(self, k):
+        """(x0, x1) of each unit of course k, left to right."""
+        L, n = self.modelled_unit[0], self.units_per_course
+        x0 = self.course_span(k)[0]
+        if not self._cut(k):
+            return [(x0 + i * L, x0 + (i + 1) * L) for i in range(n)]
+        b = self.bond_offset * L
+        return [(0.0, b)] + [(b + i * L, b + (i + 1) * L) for i in range(n - 1)] + [(b + (n - 1) * L, n * L)]
 
     @property
     def joints(self):
         """The joints as contact planes (``running_bond_joints``)."""
-        return running_bond_joints(self.courses, self.units_per_course)
+        return running_bond_joints([self.units_in_course(k) for k in range(self.courses)])
 
     @property
     def bond_overlap(self):
@@ -60,9 +80,24 @@ class Geometry:
         return self.courses * self.unit_height + (self.courses - 1) * self.joint_thickness
 
     @property
+    def bed_length(self):
+        """The length as built over which every course's bed joints bear
+        (where all courses overlap, less the half joints at its ends, which
+        are not masonry): the section width b of vertical bending."""
+        x0, x1 = self.common_span
+        return x1 - x0 - self.joint_thickness
+
+    @property
+    def common_span(self):
+        """(x0, x1): the stretch every course covers."""
+        spans = [self.course_span(k) for k in range(min(self.courses, 2))]
+        return max(s[0] for s in spans), min(s[1] for s in spans)
+
+    @property
     def length(self):
         """Overall length of the wall (the courses together)."""
-        return self.modelled_unit[0] * (self.units_per_course + (self.bond_offset if self.courses > 1 else 0))
+        shifted = self.courses > 1 and self.ends == "toothed"
+        return self.modelled_unit[0] * (self.units_per_course + (self.bond_offset if shifted else 0))
 
     def item_centres(self):
         """Where each unit and each joint sits on the wall's face: per 'unit'
@@ -71,16 +106,22 @@ class Geometry:
         ``joints`` numbers them: a head joint at its plane, a bed plane at
         the middle of the unit above it)."""
         L, _, H = self.modelled_unit
-        units = {(k, i): (self.course_span(k)[0] + (i + 0.5) * L, (k + 0.5) * H)
-                 for k in range(self.courses) for i in range(self.units_per_course)}
-        joints = [(units[u][0] + 0.5 * L, units[u][1]) if kind == "head" else (units[u][0], u[0] * H)
+        units, ends = {}, {}     # a unit's centre and its right end
+        for k in range(self.courses):
+            for i, (x0, x1) in enumerate(self.unit_spans(k)):
+                whole = not self._cut(k)
+                units[(k, i)] = (self.course_span(k)[0] + (i + 0.5) * L if whole else 0.5 * (x0 + x1),
+                                 (k + 0.5) * H)
+                ends[(k, i)] = units[(k, i)][0] + 0.5 * L if whole else x1
+        joints = [(ends[u], units[u][1]) if kind == "head" else (units[u][0], u[0] * H)
                   for kind, u in self.joints]
         return {"unit": np.array(list(units.values())), "joint": np.array(joints).reshape(-1, 2)}
 
     def course_span(self, k):
-        """x-range of course k (odd courses shifted by the bond offset)."""
+        """x-range of course k (odd courses shifted by the bond offset, with
+        toothed ends)."""
         L = self.modelled_unit[0]
-        x0 = self.bond_offset * L if k % 2 else 0.0
+        x0 = self.bond_offset * L if k % 2 and self.ends == "toothed" else 0.0
         return x0, x0 + self.units_per_course * L
 
     def crack_plane(self, k):
@@ -119,14 +160,15 @@ class Geometry:
                 f"along the unit, got {cells_along}")
 
 
-def running_bond_joints(courses, per_course):
-    """Joints numbered as contact planes: the head joints course by course
-    (per_course - 1 per course), then one bed-joint plane under each unit
-    of courses 1.. (a plane may touch one or two units below).  Returns a
-    list of (kind, unit) with unit = (course, index) of the unit to the
-    left of a head joint or above a bed plane."""
-    head = [("head", (k, i)) for k in range(courses) for i in range(per_course - 1)]
-    bed = [("bed", (k, i)) for k in range(1, courses) for i in range(per_course)]
+def running_bond_joints(counts):
+    """Joints numbered as contact planes, for courses of ``counts`` units:
+    the head joints course by course (count - 1 per course), then one
+    bed-joint plane under each unit of courses 1.. (a plane may touch one
+    or two units below).  Returns a list of (kind, unit) with unit =
+    (course, index) of the unit to the left of a head joint or above a bed
+    plane."""
+    head = [("head", (k, i)) for k, n in enumerate(counts) for i in range(n - 1)]
+    bed = [("bed", (k, i)) for k, n in enumerate(counts) if k for i in range(n)]
     return head + bed
 
 
@@ -224,7 +266,8 @@ def crack_stiffness(E, L, units, joints):
     return kn, joints.ks_ratio * kn
 
 
-def flexural_strength(P, shear_span, section_height, thickness):
+def flexural_strength(P, shear_span, section, thickness):
     """Four-point bending: sigma = 6 M / (b h^2), M = P/2 a (P the total
-    load, a the shear span, b the section height, h the thickness)."""
-    return 6.0 * (0.5 * shear_span * P) / (section_height * thickness * thickness)
+    load, a the shear span, b the section (horizontal bending: its
+    height; vertical: its width), h the thickness)."""
+    return 6.0 * (0.5 * shear_span * P) / (section * thickness * thickness)

@@ -31,7 +31,7 @@ def model_size(g, physics, disc, loading):
         return (2 * rm * m + 1) * (2 * rn * n + 1)
 
     bend = loading.bending
-    strips = len(bend.supports_x) + len(bend.loads_x) if loading.test == "bending" else 0
+    strips = len(bend.supports) + len(bend.loads) if loading.test == "bending" else 0
     # per unit a head joint (and its crack interface) and a bed joint on the
     # union of two face grids, offset by the bond (their lines coincide when
     # the offset falls on a grid line); strips across the wall's height, a
@@ -40,14 +40,19 @@ def model_size(g, physics, disc, loading):
     along = a if abs(shift - round(shift)) < 1e-9 else 2 * a
     subs = (units * (simpson(b, r.head[1], c, r.head[2]) + (pieces - 1) * simpson(b, r.crack[1], c, r.crack[2])
                      + simpson(along, r.bed[0], b, r.bed[1]))
-            + strips * simpson(g.courses * c, r.strips[2], 3, r.strips[0]))
-    # a platen: one node, and sub-contacts on the top course's faces
+            + strips * (simpson(g.courses * c, r.strips[2], 3, r.strips[0]) if bend.axis == 0
+                        else simpson(along * g.units_per_course, r.strips[0], 3, r.strips[2])))
+    # a platen, and in vertical bending a base strip that turns: a node
+    # each (and one more for a turn), and sub-contacts on the top or bottom
+    # course's faces
     platen = bool(loading.precompression.platen and loading.precompression.pressure)
-    subs += platen * g.units_per_course * simpson(along, r.strips[0], b, r.strips[1])
+    base = int(loading.test == "bending" and bend.axis == 2)
+    subs += (platen + base) * g.units_per_course * simpson(along, r.strips[0], b, r.strips[1])
     hexes = 0 if model.rigid else units * a * b * c
     zones = model.material != "elastic" or disc.elastic_element == "zones"
-    turns = strips if bend.strips_turn and not model.rigid else 0     # a turning strip's second node
-    size = dict(nodes=strips + turns + platen + units * (pieces if model.rigid else (a + pieces) * (b + 1) * (c + 1)),
+    turns = (strips if bend.strips_turn else 0) + base + (platen if base else 0) if not model.rigid else 0
+    size = dict(nodes=strips + turns + platen + base
+                + units * (pieces if model.rigid else (a + pieces) * (b + 1) * (c + 1)),
                 tetrahedra=10 * hexes if zones else 0, cells=0 if zones else hexes, sub_contacts=subs)
     size["bytes"] = sum(ITEM_BYTES[k] * n for k, n in size.items())
     return size

@@ -19,7 +19,7 @@ from importlib import resources
 import numpy as np
 from jsonschema import Draft202012Validator, validators
 
-from .bending import check_loading, placed
+from .bending import AXES, check_loading, fill_vertical, placed, section_of, vertical_defaults
 from ..errors import InputError, check_finite
 from .files import apply_overrides, read_scene, read_yaml, set_value
 from .masonry import Geometry, JointFields, UnitFields, joint_fields, unit_fields
@@ -51,6 +51,9 @@ BLOCK_MODELS = {m.name: m for m in (
 )}
 
 SCHEMA = read_yaml(resources.files(__package__).joinpath("schema.yaml").read_text())
+
+
+VERTICAL_DEFAULTS = vertical_defaults(SCHEMA)
 # the choices of block model come from the table above; the joint laws'
 # names are the schema's own enum (the solver's dem.laws.JOINT_LAWS, a test
 # checks that they are the same names)
@@ -98,20 +101,26 @@ class Drive:
 
 @dataclass(frozen=True)
 class Bending:
-    supports_x: tuple
-    loads_x: tuple
-    section_height: float
+    supports: tuple       # positions along the span (m): x in horizontal bending, z in vertical
+    loads: tuple
+    section: float        # b in sigma = 6 M / (b h^2) (m)
     strip_width: float
     strip_stiffness_ratio: float
     strips_turn: bool
     strip_friction: float
-    section_as_built: bool = True   # no section_height written: the wall's built height
-    spans_in_units: bool = False    # the spans written in unit lengths (shear_span_units)
+    section_as_built: bool = True   # no section written: the wall's as built
+    spans_in_units: bool = False    # the spans written in modelled units (shear_span_units)
+    direction: str = "horizontal"   # or vertical (scene.bending.AXES)
 
     @property
     def shear_span(self):
         """a: from the first support to the first load."""
-        return min(self.loads_x) - min(self.supports_x)
+        return min(self.loads) - min(self.supports)
+
+    @property
+    def axis(self):
+        """The global axis the span runs along (0: x, 2: z)."""
+        return AXES[self.direction][0]
 
 
 @dataclass(frozen=True)
@@ -219,7 +228,9 @@ def validate_scene(scene):
     if not isinstance(scene, dict):
         raise InputError("scene", "must be a mapping")
     written = convert(scene, SCHEMA)     # quantities ('0.15 MPa') to SI floats
-    positioned = _given(scene, "loading", "bending") & {"supports_x", "loads_x"}    # before the defaults fill them in
+    fill_vertical(scene, VERTICAL_DEFAULTS)
+    positioned = _given(scene, "loading", "bending") & {f"{k}_{s}" for k in ("supports", "loads")
+                                                         for _, s in AXES.values()}    # before the defaults fill them in
     check_finite(scene)
     errors = sorted(_Validator(SCHEMA).iter_errors(scene), key=lambda e: list(e.absolute_path))
     if errors:
@@ -288,7 +299,7 @@ def _geometry(g):
     u = g["unit"]
     return Geometry(unit_length=u["length"], unit_height=u["height"], unit_width=u["width"],
                     joint_thickness=g["joint_thickness"], courses=g["courses"], units_per_course=g["units_per_course"],
-                    bond_offset=g["bond_offset"])
+                    bond_offset=g["bond_offset"], ends=g["ends"])
 
 
 def _physics(p):
@@ -298,18 +309,20 @@ def _physics(p):
 def _loading(lo, g, given=()):
     test = lo["test"]
     b = lo["bending"]
-    supports, loads = placed(b, g, given) if test == "bending" else (tuple(b.get("supports_x", ())),
-                                                                      tuple(b.get("loads_x", ())))
+    direction = b["direction"]
+    _, suffix = AXES[direction]
+    supports, loads = placed(b, g, given, direction) if test == "bending" else (tuple(b.get(f"supports_{suffix}", ())),
+                                                                                 tuple(b.get(f"loads_{suffix}", ())))
+    key, section = section_of(b, g, direction)
     drive = {k: lo[test][k] for k in ("rate", "ramp_steps", "max_displacement", "load_drop", "max_steps")}
     if (past := lo[test].get("past_peak")) is not None:
         drive["past_peak"] = (past["drop"], past["after"], past["at_most"])
     return Loading(test=test, precompression=Precompression(**lo["precompression"]), drive=Drive(**drive),
-                   bending=Bending(supports_x=supports, loads_x=loads,
-                                   section_height=b.get("section_height", g.built_height),
+                   bending=Bending(supports=supports, loads=loads, section=section,
                                    strip_width=b["strip_width"],
                                    strip_stiffness_ratio=b["strip_stiffness_ratio"], strips_turn=b["strips_turn"],
-                                   strip_friction=b["strip_friction"], section_as_built="section_height" not in b,
-                                   spans_in_units="shear_span_units" in b))
+                                   strip_friction=b["strip_friction"], section_as_built=key not in b,
+                                   spans_in_units="shear_span_units" in b, direction=direction))
 
 
 KINDS = ("head", "bed", "crack", "strips")

@@ -45,7 +45,7 @@ class Specimen:
         if self.test == "triplet":
             return P / (2.0 * L * T)
         bend = self.scene.loading.bending
-        return flexural_strength(P, bend.shear_span, bend.section_height, g.unit_width)
+        return flexural_strength(P, bend.shear_span, bend.section, g.unit_width)
 
 
 def build(scene):
@@ -87,11 +87,17 @@ def _units(scene):
     units, block_unit = [], []
     for k in range(g.courses):
         x0 = g.course_span(k)[0]
-        for i in range(g.units_per_course):
+        spans = g.unit_spans(k)
+        for i, (start, end) in enumerate(spans):
             uid = len(units)
             material = material_of(E=mat.E[uid], nu=mat.nu, density=mat.density, ft=mat.ft[uid], c=mat.c[uid],
                                          phi=mat.phi, Gf=float(mat.Gf[uid]))
-            for lo, hi, n in _pieces(x0 + i * L, L, g.crack_plane(k) if model.crack_interface else None, cells[0]):
+            # a whole unit cracks in line with the head joints above and
+            # below; a cut one (straight ends) at its middle
+            whole = len(spans) == g.units_per_course
+            at, length = (x0 + i * L, L) if whole else (start, end - start)
+            plane = (g.crack_plane(k) if whole else 0.5 * length) if model.crack_interface else None
+            for lo, hi, n in _pieces(at, length, plane, cells[0]):
                 m.add_box([lo, 0.0, k * H], [hi, T, (k + 1) * H], [n, cells[1], cells[2]], material,
                           rigid=model.rigid, element=element)
                 block_unit.append(uid)
@@ -189,29 +195,36 @@ def _precompression(m, scene):
     L, T, _ = g.modelled_unit
     rect = ((lo, hi), (-1.0, T + 1.0))
     if pre.platen:      # a rigid plate held down by the force, as stiff as the bending strips
-        kn = scene.loading.bending.strip_stiffness_ratio * joint_kn(
-            float(np.mean(scene.materials.units.E)), scene.materials.joints.Em_ratio, g.joint_thickness)
-        m.add_strip("platen", 2, g.height, +1, ((lo, hi), (0.0, T)), kn,
-                    force=(0.0, 0.0, -pre.pressure * g.units_per_course * L * T))
+        # (in vertical bending it turns with the wallette's top, as the base does)
+        m.add_strip("platen", 2, g.height, +1, ((lo, hi), (0.0, T)), _strip_kn(scene),
+                    force=(0.0, 0.0, -pre.pressure * g.units_per_course * L * T), turns=_spans_vertically(scene))
         return
     m.add_pressure(2, g.height, +1, rect, pre.pressure * g.units_per_course * L / (hi - lo))
 
 
 def _roller(m, rigid, point, dof):
     """The base: a roller (z fixed) under the bottom face, and ``dof`` fixed
-    at the base node nearest ``point`` (the least restraint against rigid
-    motion; a line of fixed nodes would add stiffness).  Rigid units: the
+    at the base node nearest ``point`` (``_held``).  Rigid units: the
     roller holds each bottom unit's z and its rotations about x and y."""
     if rigid:
-        bottom = [b for b in m.blocks if b.lo[2] < GEOM_TOL]
-        for b in bottom:
+        for b in (b for b in m.blocks if b.lo[2] < GEOM_TOL):
             m.fix([b.node0], dofs=[2])
             m.fix_rotation(b, dofs=(0, 1))
+    else:
+        m.fix(m.select(lambda x: x[:, 2] < GEOM_TOL), dofs=[2])
+    _held(m, rigid, point, dof)
+
+
+def _held(m, rigid, point, dof):
+    """``dof`` fixed at the base node nearest ``point`` (the least restraint
+    against rigid motion; a line of fixed nodes would add stiffness); rigid
+    units: at the node of the bottom unit nearest it in plan."""
+    if rigid:
+        bottom = [b for b in m.blocks if b.lo[2] < GEOM_TOL]
         nearest = min(bottom, key=lambda b: np.linalg.norm(b.centroid[:2] - point[:2]))
         m.fix([nearest.node0], dofs=[dof])
     else:
         base = m.select(lambda x: x[:, 2] < GEOM_TOL)
-        m.fix(base, dofs=[2])
         m.fix(base[np.argmin(np.linalg.norm(m.x0[base] - point, axis=1))], dofs=[dof])
 
 
@@ -231,26 +244,51 @@ def _grip(m, blocks, side):
     return np.asarray(nodes, np.int64)
 
 
+def _spans_vertically(scene):
+    return scene.loading.test == "bending" and scene.loading.bending.direction == "vertical"
+
+
+def _strip_kn(scene):
+    """A strip's k_n: strip_stiffness_ratio joints between units of the
+    wall's mean E_b."""
+    g = scene.geometry
+    return scene.loading.bending.strip_stiffness_ratio * joint_kn(
+        float(np.mean(scene.materials.units.E)), scene.materials.joints.Em_ratio, g.joint_thickness)
+
+
 def _bending(m, scene):
-    """Four-point out-of-plane bending (docs/study.md, 2): the base roller
-    with x fixed at the node nearest the span centre at mid-thickness (on
-    a head joint a line of x-fixed nodes would pin it shut; y is held by
-    the strips), support strips on the back face, load strips on the front
-    face, as stiff as strip_stiffness_ratio joints between units of the
-    wall's mean E_b.  Returns the load strips and their velocity."""
+    """Four-point out-of-plane bending (docs/study.md, 2; docs/formulation.md,
+    8.1): support strips on the back face, load strips on the front face,
+    as stiff as strip_stiffness_ratio joints between units of the wall's
+    mean E_b, lines across the span (horizontal bending: over the wall's
+    height at x; vertical: at heights z, over the stretch every course
+    covers).  Horizontal: the base roller with x fixed at the node nearest
+    the span centre at mid-thickness (on a head joint a line of x-fixed
+    nodes would pin it shut; y is held by the strips).  Vertical: the base
+    bears on a strip that turns about its long side, so that the foot
+    turns with the span, and x is fixed at the base node nearest the
+    middle of the common stretch at mid-thickness.  Returns the load
+    strips and their velocity."""
     bend, g = scene.loading.bending, scene.geometry
     T, Htot = g.unit_width, g.height
-    _roller(m, scene.physics.model.rigid, np.array([np.mean(bend.supports_x), 0.5 * T, 0.0]), dof=0)
+    rigid = scene.physics.model.rigid
     w = 0.5 * bend.strip_width
-    E_b = scene.materials.units.E
-    ks = bend.strip_stiffness_ratio * joint_kn(float(np.mean(E_b)), scene.materials.joints.Em_ratio,
-                                               g.joint_thickness)
-    # strips on planes normal to y: plane coordinates (p, q) = (z, x)
+    ks = _strip_kn(scene)
     how = dict(turns=bend.strips_turn, friction=bend.strip_friction)
-    supports = [m.add_strip(f"support{i}", 1, T, +1, ((0.0, Htot), (xs - w, xs + w)), ks, **how)
-                for i, xs in enumerate(bend.supports_x)]
-    loads = [m.add_strip(f"load{i}", 1, 0.0, -1, ((0.0, Htot), (xl - w, xl + w)), ks, **how)
-             for i, xl in enumerate(bend.loads_x)]
+    if bend.direction == "vertical":
+        x0, x1 = g.common_span
+        m.add_strip("base", 2, 0.0, -1, ((x0, x1), (0.0, T)), ks, turns=True)
+        _held(m, rigid, np.array([0.5 * (x0 + x1), 0.5 * T, 0.0]), dof=0)
+        # strips on planes normal to y: plane coordinates (p, q) = (z, x)
+        def line(at):
+            return (at - w, at + w), (x0, x1)
+    else:
+        _roller(m, rigid, np.array([np.mean(bend.supports), 0.5 * T, 0.0]), dof=0)
+
+        def line(at):
+            return (0.0, Htot), (at - w, at + w)
+    supports = [m.add_strip(f"support{i}", 1, T, +1, line(at), ks, **how) for i, at in enumerate(bend.supports)]
+    loads = [m.add_strip(f"load{i}", 1, 0.0, -1, line(at), ks, **how) for i, at in enumerate(bend.loads)]
     m.add_monitor("load", loads, 1)
     m.add_monitor("support", supports, 1)
     return loads, np.array([0.0, scene.loading.drive.rate, 0.0])

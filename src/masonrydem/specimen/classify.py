@@ -88,6 +88,21 @@ def crack_fractions(specimen, state, crack_damage):
     return fractions, cracked_vol, total_vol
 
 
+def bed_planes(specimen, state):
+    """Per bed-joint plane (between courses k - 1 and k, k = 1..), the
+    area-weighted mean damage of its joints: {k: D}.  In vertical bending
+    the wallette fails along the plane with the largest."""
+    area = state.joints.area
+    D = state.joints.state[:, JS_D]
+    num, den = {}, {}
+    for c, j in zip(specimen.assembly.contacts, specimen.contact_joint):
+        kind, (k, _) = specimen.joints[j]
+        if kind == "bed":
+            num[k] = num.get(k, 0.0) + float(np.sum(D[c.sc] * area[c.sc]))
+            den[k] = den.get(k, 0.0) + float(np.sum(area[c.sc]))
+    return {k: num[k] / den[k] for k in sorted(num)}
+
+
 def classify(specimen, state, crack_damage=0.5, crack_through=0.5, broken_joint_damage=0.5):
     """Returns a dict: failure_mode ('brick' or 'joint'), the evidence
     columns and a one-line explanation."""
@@ -107,6 +122,12 @@ def classify(specimen, state, crack_damage=0.5, crack_through=0.5, broken_joint_
         why = (f"joint failure: no unit cracked through (largest cracked share of {what} "
                f"{fractions.max():.0%} < {crack_through:.0%})")
     why += f"; {broken.size} of {jd.size} joints broken (mean damage >= {broken_joint_damage})"
+    bend = specimen.scene.loading
+    if bend.test == "bending" and bend.bending.direction == "vertical" and mode == "joint":
+        planes = bed_planes(specimen, state)
+        k = max(planes, key=planes.get)
+        why += (f"; the crack runs along the bed joint between courses {k} and {k + 1} (its mean damage "
+                f"{planes[k]:.2f}, the next plane's {sorted(planes.values())[-2]:.2f})")
     return dict(
         failure_mode=mode,
         cracked_units=int(through.size),

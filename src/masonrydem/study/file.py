@@ -207,7 +207,39 @@ def _typed(raw):
                   provenance={n: _provenance(n, v["provenance"]) for n, v in raw["variables"].items()
                               if "provenance" in v})
     _check_against_scene(study)
-    return study
+    return _with_directions(study, raw.get("directions") or {})
+
+
+def _with_directions(study, given):
+    """The study with its bending directions: its scene's own (horizontal
+    unless the scene bends vertically) and each further one the file
+    names, whose scene bends that way and takes the study as the scene
+    does.  Draws per unit or joint cannot be paired between two specimens
+    (their units and joints differ): refused with further directions."""
+    own = _direction_of(study.scene, "scene", study.rules)
+    if own in given:
+        raise InputError(f"directions.{own}", f"is the study's own scene's direction (scene: {study.scene} bends "
+                                              f"{own}ly): name only the other direction here")
+    for name, v in study.variants.items():
+        if given and v["draw"] != "wallette":
+            raise InputError(f"variants.{name}.draw", f"draws per {v['draw']}, which cannot be paired between the "
+                             f"directions' specimens (their units and joints differ): draw per wallette, or give no "
+                             "directions")
+    for direction, path in given.items():
+        field = f"directions.{direction}"
+        if (other := _direction_of(path, field, study.rules)) != direction:
+            raise InputError(field, f"the scene {path} bends {other}ly, not {direction}ly (its "
+                                    "loading.bending.direction)")
+        _check_against_scene(replace(study, scene=path), field)
+    return replace(study, directions={own: study.scene, **given}, direction=own)
+
+
+def _direction_of(path, field, rules):
+    """The bending direction of a scene file's test (with the study's rules)."""
+    scene = _fail_scene(field, lambda: build_scene(path, settings=rules))
+    if scene.loading.test != "bending":
+        raise InputError(field, f"the scene {path} runs a {scene.loading.test} test: a study's specimens bend")
+    return scene.loading.bending.direction
 
 
 def check_samples(n, field):
@@ -288,11 +320,11 @@ def _rule_si(key, value):
     return _quantity(value, _unit(key, f"rules.{key}"), f"rules.{key}") if setting_unit(key) is not None else value
 
 
-def _check_against_scene(study):
+def _check_against_scene(study, field="scene"):
     """The scene takes the rules, each variable at its mean (or mid-range)
     and each swept level: a setting it does not have, or a value it
     refuses, is found now, named as the study file writes it."""
-    base = _fail_scene("scene", lambda: read_scene(study.scene))
+    base = _fail_scene(field, lambda: read_scene(study.scene))
     _fail_scene("rules", lambda: build_scene(base, settings=study.rules))
     for v in study.variables:
         _fail_scene(f"variables.{v.name}", lambda: build_scene(base, settings={**study.rules, v.setting: mean_of(v)}))

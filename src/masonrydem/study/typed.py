@@ -2,7 +2,7 @@
 and its samples, drawn by ``Study.draw`` alone (``Draw``)."""
 import hashlib
 import json
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -30,6 +30,17 @@ class Study:
     units: dict                # input (a variable or the sweep's name) -> its SI unit
     regression_variant: str = None   # the variant the equations are fitted on (None: none fitted)
     provenance: dict = field(default_factory=dict)   # variable -> its lab fit's record (masonrydem fit)
+    directions: dict = field(default_factory=dict)   # bending direction -> its scene file, the scene's own included
+    direction: str = None      # the direction this study runs (its scene's): directions[direction] == scene
+
+    def in_direction(self, direction):
+        """The study in another bending direction: the same samples (draws
+        per wallette, so each sample's material is the same in both: the
+        runs pair), on that direction's scene."""
+        if direction not in self.directions:
+            raise InputError("direction", f"the study {self.name!r} has no specimen for {direction} bending; its "
+                                          f"directions: {', '.join(self.directions)} (the study file's directions)")
+        return replace(self, scene=self.directions[direction], direction=direction)
 
     def variable(self, name):
         return next(v for v in self.variables if v.name == name)
