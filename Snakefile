@@ -45,6 +45,7 @@ rule all:
         get_specimen_outputs(),
         get_further_outputs(),
         get_design_outputs(),
+        get_directions_outputs(),
         get_sobol_check_outputs(),
 
 

@@ -518,3 +518,20 @@ def test_check_suggests_a_value_and_its_source_for_each_missing_material_propert
     (tmp_path / "scene.yaml").write_text(yaml.safe_dump(raw))
     r = _cli("check", str(tmp_path / "scene.yaml"))
     assert r.returncode == 2 and "materials.joints.ks_ratio: missing" in r.stderr and "0.4 is k_s = 0.4 k_n" in r.stderr
+
+
+def test_predict_builds_the_vertical_wallette_of_the_brick_it_is_given():
+    """A vertical-bending study's equations with the brick's size as
+    inputs: the section is the bed joints' length as built and the shear
+    span scales with the course height, as the scene itself builds them
+    for that brick (config/scenes/solid_vertical.yaml with the UK brick)."""
+    vertical = "config/scenes/solid_vertical.yaml"
+    p = {"inputs": {k: dict(unit="m", shown="mm", setting=s) for k, s in (
+        ("L", "geometry.unit.length"), ("H", "geometry.unit.height"), ("W", "geometry.unit.width"),
+        ("t", "geometry.joint_thickness"))}}
+    p["wallette"] = predict.build({}, pd.DataFrame(), build_scene(vertical), "s", {}, {}, "v", {})["wallette"]
+    w = predict.wallette_at(p, dict(L=215.0, H=65.0, W=102.5, t=10.0))
+    uk = build_scene(vertical, ["geometry.unit.length=0.215", "geometry.unit.height=0.065",
+                                "geometry.unit.width=0.1025", "geometry.joint_thickness=0.010"]).loading.bending
+    assert w["section_height_m"] == pytest.approx(uk.section, rel=1e-12) == pytest.approx(2 * 0.225 - 0.010)
+    assert w["shear_span_m"] == pytest.approx(uk.shear_span, rel=1e-12) == pytest.approx(3 * 0.075)

@@ -497,3 +497,28 @@ def test_the_vertical_defaults_as_quoted():
     refine = SCHEMA["properties"]["numerics"]["properties"]["subcontact_refine"]["default_vertical"]
     assert vertical.rate == bending["rate"]["default_vertical"] and f"{vertical.rate:.1e}".replace("e-0", "e-") in acc
     assert vertical.bed_refine == "x".join(map(str, refine["bed"]))
+
+
+def test_both_directions_as_quoted():
+    """docs/lab-to-design.md's table of both directions is
+    results/studies/waal_lab/vertical/study/directions.csv's, and its
+    wallette tests' percentiles and p-value are wallette_tests.csv's and
+    the agreement test's on it."""
+    from masonrydem.analysis.directions import agreement
+    folder = RESULTS / "studies/waal_lab/vertical/study"
+    table = pd.read_csv(folder / "directions.csv")
+    rows = _table(DOCS["docs/lab-to-design.md"], "| p (MPa) | f_x1 (95 %) |")
+    assert len(rows) == len(table)
+    for (p, f1, f2, mu, k1, k2), r in zip(rows, table.itertuples()):
+        assert p == f"{r.p_mpa:g}"
+        assert f1 == f"{r.f_x1_mpa:.3f} ({r.f_x1_low:.3f} to {r.f_x1_high:.3f})"
+        assert f2 == f"{r.f_x2_mpa:.3f} ({r.f_x2_low:.3f} to {r.f_x2_high:.3f})"
+        assert mu == f"{r.mu:.3f} ({r.mu_low:.3f} to {r.mu_high:.3f})"
+        assert k1 == f"{r.f_x1_k_mpa:.3f} / {r.en_fxk1_app_mpa:.2f}" and k2 == f"{r.f_x2_k_mpa:.3f} / {r.en_fxk2_mpa:.2f}"
+    text = _flat(_section(DOCS["docs/lab-to-design.md"], "## 11."))
+    assert f"correlation ({table.pair_correlation.iloc[0]:.2f} at 0 MPa" in text
+    tests = pd.read_csv(folder / "wallette_tests.csv")
+    for direction, g in tests.groupby("direction"):
+        lo, hi = 100 * g.percentile.min(), 100 * g.percentile.max()
+        assert f"at the {lo:.0f}th to {hi:.0f}rd" in text or f"at the {lo:.0f}th to {hi:.0f}th" in text, direction
+    assert f"p = {agreement(tests)[2]:.3f}" in text

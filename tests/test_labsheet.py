@@ -210,3 +210,40 @@ def test_a_raw_sheet_with_the_labs_computed_strengths(tmp_path):
     with pytest.raises(InputError) as e:
         S.read_sheet(with_column(lambda c, k: strength(c, arm=50.0)))
     assert e.value.field == f"with.csv row {head + 2}, column 'f_w [N/mm2]'"
+
+
+WALL = "specimen,direction,load [kN],support span [mm],load span [mm],width [mm],thickness [mm],failure\n"
+
+
+def test_a_wallette_sheet_by_statics_with_each_tests_direction(tmp_path):
+    """EN 1052-2 wallettes: two loads F/2 at (l1 -+ l2)/2 of a span l1, the
+    midspan moment by statics over b t^2 / 6, to 1e-9; each test's
+    direction as written (parallel is vertical, perpendicular horizontal);
+    the committed synthetic sheet reads too."""
+    p = tmp_path / "w.csv"
+    p.write_text(WALL + "V1,vertical,3.0,540,180,440,100,bed joint\nV2,parallel,3.5,540,180,440,100,\n"
+                        "H1,Horizontal,9.0,742,238,470,100,stepped\nH2,perpendicular,9.5,700,300,400,110,\n")
+    lab = S.read_sheet(p)
+    expected = [_midspan_moment_stress([(F / 2, (l1 - l2) / 2), (F / 2, (l1 + l2) / 2)], l1, b, t)
+                for F, l1, l2, b, t in ((3e3, 0.54, 0.18, 0.44, 0.1), (3.5e3, 0.54, 0.18, 0.44, 0.1),
+                                        (9e3, 0.742, 0.238, 0.47, 0.1), (9.5e3, 0.7, 0.3, 0.4, 0.11))]
+    assert list(lab["values"]) == pytest.approx(expected, rel=1e-9) and lab["form"] == "wallette"
+    assert lab["directions"] == ["vertical", "vertical", "horizontal", "horizontal"]
+    assert list(lab["levels"]) == [0.0] * 4
+    committed = S.read_sheet("config/lab/waal_wallettes.csv")
+    assert len(committed["values"]) == 7 and "SYNTHETIC" in open("config/lab/waal_wallettes.csv").read(200)
+
+
+def test_a_wallette_sheet_without_its_direction_is_refused(tmp_path):
+    """A wallette sheet whose direction is not stated, or stated as no
+    direction, is refused naming the column (and the row)."""
+    p = tmp_path / "w.csv"
+    p.write_text(WALL.replace("direction,", "") + "V1,3.0,540,180,440,100,\nV2,3.5,540,180,440,100,\n"
+                                                  "V3,3.1,540,180,440,100,\n")
+    with pytest.raises(InputError, match="states each test's direction"):
+        S.read_sheet(p)
+    p.write_text(WALL + "V1,vertical,3.0,540,180,440,100,\nV2,diagonal,3.5,540,180,440,100,\n"
+                        "V3,vertical,3.1,540,180,440,100,\n")
+    with pytest.raises(InputError) as e:
+        S.read_sheet(p)
+    assert e.value.field == "w.csv row 3, column 'direction'" and "no direction" in e.value.reason

@@ -263,17 +263,15 @@ def _check(args):
 
 def _predict(args):
     """``predict``: a study's equations at the given inputs."""
-    from .analysis.predict import predict
+    from .analysis.predict import both_directions
     inputs = {}
     for text in args.inputs:
         name, eq, value = text.partition("=")
         if not eq or not name.strip():
             raise InputError("predict", f"{text!r} is not NAME=VALUE (such as f_tu='3.5 MPa')")
         inputs[name.strip()] = value
-    scene = None
-    if args.scene:
-        scene = build_scene(args.scene)
-    print("\n".join(predict(args.predictor, {n: n for n in inputs}, scene, **inputs).lines()))
+    scene = build_scene(args.scene) if args.scene else None
+    print("\n".join(both_directions(args.predictor, args.other, {n: n for n in inputs}, scene, inputs)))
     return 0
 
 
@@ -293,6 +291,9 @@ def _fit(args):
         raise InputError("--resamples", f"{args.resamples}: at least 99 for a p-value to 0.01")
     depth = to_si(args.depth, "m", "--depth") if args.depth is not None else None
     lab = labsheet.read_sheet(args.lab, unit)
+    if lab["form"] == "wallette":
+        print("\n".join(f"# {line}" for line in labsheet.wallette_summary(lab)))
+        return 0
     measured = lab["measured"] or args.measured
     if args.measured and lab["measured"] and args.measured != lab["measured"]:
         raise InputError("--measured", f"{args.measured}: a {lab['form'].replace('_', ' ')} sheet measures "
@@ -365,6 +366,7 @@ def parser():
                                         "results/study/predictor.json)")
     pred.add_argument("--scene", help="your wallette's scene: refused unless it is the one the equations were "
                                       "fitted on")
+    pred.add_argument("--other", help="the same study's predictor in the other bending direction: both, and mu")
     pred.add_argument("inputs", nargs="+", metavar="NAME=VALUE",
                       help="each input of the study's equations by its name in the study file, with its unit, "
                            "e.g. f_tu='3.5 MPa' (a plain number is SI)")

@@ -32,7 +32,7 @@ for key, value in workflow.config_settings.config.items():
 # a stage set to null (by a study's own workflow config, over config.yaml's)
 # is no stage of this workflow
 for key in ("validation", "hard_cases", "half_rate", "reduced", "specimens", "modelform", "accuracy",
-            "further_studies", "geometry_formats", "design", "sobol_check"):
+            "further_studies", "geometry_formats", "design", "sobol_check", "directions"):
     if key in config and config[key] is None:
         del config[key]
 validate(config, "../../config/schema.yaml", set_default=True)
@@ -340,6 +340,13 @@ def get_design_outputs():
     """The design target's table and page (a workflow config with a
     'design' section: docs/lab-to-design.md)."""
     return [f"{R}/design/design.csv", f"{R}/report/tables/design.html"] if config.get("design") else []
+
+
+def get_directions_outputs():
+    """Both bending directions' table, figure and page (a workflow config
+    with a 'directions' section: docs/lab-to-design.md, 11)."""
+    return ([f"{R}/study/directions.csv", f"{R}/study/directions.png", f"{R}/report/tables/directions.html"]
+            if config.get("directions") else [])
 
 
 def get_format_runs(name):

@@ -29,3 +29,33 @@ if config.get("design"):
             ENV
         script:
             "../scripts/design.py"
+
+
+if config.get("directions"):
+
+    rule directions:
+        """Both bending directions of the study on the same samples: f_x1
+        and f_x2 per level with their intervals, mu = f_x1 / f_x2 with
+        Fieller's interval, the codes beside them."""
+        input:
+            runs=f"{R}/study/runs.parquet",
+            pair=f"{config['directions']['pair']}/study/runs.parquet",
+            wallettes=[config["directions"]["wallettes"]] if config["directions"].get("wallettes") else [],
+            template=get_template("directions"),
+        output:
+            table=f"{R}/study/directions.csv",
+            tests=f"{R}/study/wallette_tests.csv",
+            figure=report(f"{R}/study/directions.png", caption=get_caption("directions"), category="Directions"),
+            page=report(f"{R}/report/tables/directions.html", caption=get_caption("directions"),
+                        category="Directions"),
+            caption=get_caption_file("directions"),
+        params:
+            code=get_code("directions"),
+            directions=config["directions"],
+            analysis=plan.analysis(config),
+        log:
+            f"{R}/logs/study/directions.log",
+        conda:
+            ENV
+        script:
+            "../scripts/directions.py"

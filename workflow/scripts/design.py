@@ -19,8 +19,10 @@ level, _ = of_study(sm.params.analysis)
 runs = pd.read_parquet(sm.input.runs)
 runs = runs[runs.variant == study.regression_variant]
 lab, sampling, columns, as3700 = design.study_inputs(study, cfg.get("bond"), cfg.get("units"))
+direction = study.direction
 table = design.design_table(runs, level.column, columns, sampling, lab, cfg["gamma_M"],
-                            design.FXK2_CLAY[cfg["fxk2"]], as3700, cfg["seed"], cfg["draws"])
+                            design.FXK2_CLAY[cfg["fxk2"]], as3700, cfg["seed"], cfg["draws"], direction,
+                            design.FXK1_CLAY[cfg["fxk2"]])
 table.to_csv(sm.output.table, index=False, float_format="%.4g")
 print(table.to_string())
 lines = design.caption_lines(table, level.column, level.unit)
@@ -28,7 +30,7 @@ print("\n".join(lines))
 title = "The wallette's characteristic flexural strength from the lab's results, per level"
 open(sm.output.page, "w").write(tables.html_table(table, title))
 captions.write_caption(sm.input.template, sm.output.caption, lines="\n".join(f"- {x}" for x in lines),
-                       variant=study.regression_variant, fxk2=cfg["fxk2"], gamma_M=f"{cfg['gamma_M']:g}",
-                       draws=cfg["draws"],
-                       as3700=design.as3700_words(as3700, cfg.get("bond"), cfg.get("units")),
+                       variant=study.regression_variant, en=design.en_words(direction, cfg["fxk2"]),
+                       gamma_M=f"{cfg['gamma_M']:g}", draws=cfg["draws"],
+                       as3700=design.as3700_words(as3700, cfg.get("bond"), cfg.get("units"), direction),
                        lab=design.lab_words(study))

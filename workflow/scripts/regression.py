@@ -44,7 +44,7 @@ if reg["precompression"]:
     study = plan.study(sm.config)
     design = V.design_inputs(build_scene(study.scene, settings=study.mean_settings()))
     table = V.design_table(fits, ns, resid_sd, np.linspace(runs[level].min(), runs[level].max(), 51), design,
-                           reg["means"], columns, reg["level"], level)
+                           reg["means"], columns, reg["level"], level, scene.loading.bending.direction)
     simulated = ns.groupby(level).strength_mpa.agg(["mean", "std"])
     F.design_comparison(table, simulated, sm.output.design, variant, of_study(reg)[0], list(fits))
     table.to_csv(sm.output.design_table, index=False, float_format="%.5g")

@@ -228,15 +228,18 @@ def _end(replicates, q, unbounded):
     return v if 0 < v < np.inf else np.nan
 
 
-def design_table(runs, level_column, inputs, sampling, lab, gamma_m, fxk2, as3700_inputs, rng, draws=1000):
+def design_table(runs, level_column, inputs, sampling, lab, gamma_m, fxk2, as3700_inputs, rng, draws=1000,
+                 direction="horizontal", fxk1=None):
     """Per level of the ok runs: the wallette's characteristic flexural
     strength (MPa) with its interval (lab and runs), the lab-only and the
     runs-only intervals, the ESS, the design value f_xk / gamma_m, EN
     1996-1-1's f_xk2 (``fxk2``, MPa) and its design value, and AS 3700's
     capacities at the lab's characteristic values (``as3700_inputs``:
     (f'_mt, f'_ut) in MPa, or None where it does not apply).  ``inputs``:
-    lab-fitted input -> its runs table column (SI = column x ``scale``)."""
-    from .validation import as3700
+    lab-fitted input -> its runs table column (SI = column x ``scale``).
+    In vertical bending (``direction``) EN 1996-1-1's apparent f_xk1 +
+    sigma_d (``fxk1``, 6.3.1) and AS 3700's vertical rule instead."""
+    from .validation import as3700, as3700_vertical
     if not gamma_m > 0:
         raise InputError("design.gamma_M", f"{gamma_m}: a partial factor is above 0")
     ok = runs[runs.ok]
@@ -255,10 +258,16 @@ def design_table(runs, level_column, inputs, sampling, lab, gamma_m, fxk2, as370
                "lab_only_lo_mpa": r["lab_only"][0], "lab_only_hi_mpa": r["lab_only"][1],
                "runs_only_lo_mpa": runs_only[1], "runs_only_hi_mpa": runs_only[2],
                "ess": r["ess_point"], "ess_median": r["ess_median"], "ess_05": r["ess_05"],
-               "gamma_M": gamma_m, "f_xd_mpa": r["point"] / gamma_m, "f_xk2_mpa": fxk2, "f_xd2_mpa": fxk2 / gamma_m}
-        if as3700_inputs is not None:
-            stepped, line = as3700(*as3700_inputs, np.array([level]))
-            row.update(as3700_stepped_mpa=float(stepped[0]), as3700_line_mpa=float(line[0]))
+               "gamma_M": gamma_m, "f_xd_mpa": r["point"] / gamma_m}
+        if direction == "vertical":
+            row.update(f_xk1_app_mpa=fxk1 + level, f_xd1_app_mpa=fxk1 / gamma_m + level)
+            if as3700_inputs is not None:
+                row.update(as3700_vertical_mpa=float(as3700_vertical(as3700_inputs[0], np.array([level]))[0]))
+        else:
+            row.update(f_xk2_mpa=fxk2, f_xd2_mpa=fxk2 / gamma_m)
+            if as3700_inputs is not None:
+                stepped, line = as3700(*as3700_inputs, np.array([level]))
+                row.update(as3700_stepped_mpa=float(stepped[0]), as3700_line_mpa=float(line[0]))
         rows.append(row)
     return pd.DataFrame(rows)
 
@@ -271,9 +280,15 @@ def caption_lines(table, level_column, level_unit):
     """One line per level for the report page and the command's output."""
     out = []
     for r in table.to_dict("records"):
-        rules = f"; EN 1996-1-1 f_xk2 {r['f_xk2_mpa']:.2f} MPa (design {r['f_xd2_mpa']:.3f})"
-        if "as3700_stepped_mpa" in r and not math.isnan(r["as3700_stepped_mpa"]):
-            rules += f"; AS 3700 stepped {r['as3700_stepped_mpa']:.3f}, line {r['as3700_line_mpa']:.3f} MPa"
+        if "f_xk1_app_mpa" in r:
+            rules = (f"; EN 1996-1-1 f_xk1 + sigma_d {r['f_xk1_app_mpa']:.2f} MPa (design "
+                     f"{r['f_xd1_app_mpa']:.3f})")
+            if "as3700_vertical_mpa" in r and not math.isnan(r["as3700_vertical_mpa"]):
+                rules += f"; AS 3700 vertical {r['as3700_vertical_mpa']:.3f} MPa"
+        else:
+            rules = f"; EN 1996-1-1 f_xk2 {r['f_xk2_mpa']:.2f} MPa (design {r['f_xd2_mpa']:.3f})"
+            if "as3700_stepped_mpa" in r and not math.isnan(r["as3700_stepped_mpa"]):
+                rules += f"; AS 3700 stepped {r['as3700_stepped_mpa']:.3f}, line {r['as3700_line_mpa']:.3f} MPa"
         out.append(f"{r[level_column]:g} {level_unit}: f_xk {r['f_xk_mpa']:.3f} MPa ({_span(r, 'f_xk')}; "
                    f"lab only {_span(r, 'lab_only')}, runs only {_span(r, 'runs_only')}; {r['basis']}, "
                    f"{r['runs']} runs, ESS {r['ess']:.1f}, median over the draws {r['ess_median']:.1f}), "
@@ -281,11 +296,22 @@ def caption_lines(table, level_column, level_unit):
     return out
 
 
-def as3700_words(as3700, bond=None, units=None):
+def en_words(direction, mortar):
+    """The design caption's words on EN 1996-1-1 in the study's direction."""
+    if direction == "vertical":
+        return (f"EN 1996-1-1's recommended f_xk1 for clay units, {mortar} (from a secondary transcription of the\n"
+                "standard's table), with the precompression added as its 6.3.1 adds it (f_xk1 + sigma_d)")
+    return (f"EN 1996-1-1's recommended f_xk2 for clay units, {mortar} (from a secondary transcription of the\n"
+            "standard's table), gives no credit for the precompression")
+
+
+def as3700_words(as3700, bond=None, units=None, direction="horizontal"):
     """The design caption's words on AS 3700 (``as3700``: study_inputs'
     characteristic values, or None): its rules given at the lab's values,
     or why none are given (they need both the bond and the units' modulus
     of rupture from lab sheets: the config's design.bond and design.units)."""
+    if as3700 is not None and direction == "vertical":
+        return "AS 3700's vertical-bending rule (capacity factor 1) at the lab's characteristic flexural bond adds it too"
     if as3700 is not None:
         return ("AS 3700's horizontal-bending rules (capacity factor 1) at the lab's characteristic flexural bond "
                 "and unit modulus of rupture do")

@@ -11,7 +11,13 @@ columns (``failure``, ``specimen``, ``note``) is ``name [unit]``:
    thickness), optional ``wrench weight`` with ``wrench lever arm``, and
    ``unit weight`` (what the joint carries at its centre);
 3. unit flexure: ``load``, ``span``, optional ``load span`` (four-point
-   bending; without it three-point), ``width``, ``depth``.
+   bending; without it three-point), ``width``, ``depth``;
+4. wallette (EN 1052-2): ``load``, ``support span``, ``load span``,
+   ``width``, ``thickness``, optional ``precompression``, and a text column
+   ``direction``: vertical (or parallel: the plane of failure parallel to
+   the bed joints, f_x1) or horizontal (perpendicular: f_x2), each row's
+   own.  Wallette tests are not fitted: they are set beside a study's
+   prediction for their direction and level (analysis/directions.py).
 
 A sheet of the second or third form may carry one more column in a stress
 unit, of any name: the strengths the lab computed from its loads.  Each is
@@ -36,10 +42,13 @@ from ..scene import to_si
 
 MIN_RESULTS = 3
 LAB_TOLERANCE = 0.01     # a lab's computed strength agrees with the loads' within 1 %, and its rounding
-METHODS = {"results": "read as written",
+METHODS = {"results": "read as written", "wallette": "EN 1052-2 four-point bending, 3 F (l1 - l2) / (2 b t^2)",
            "bond_wrench": "bond wrench: (F1 e1 + F2 e2) / Z - (F1 + F2 + F3) / A, lever arms from the joint's centre",
            "unit_flexure": "three-point bending, 3 P L / (2 b d^2)"}
-TEXT_COLUMNS = ("failure", "specimen", "note")
+TEXT_COLUMNS = ("failure", "specimen", "note", "direction")
+# a wallette test's direction as a sheet may write it -> the bending direction
+DIRECTIONS = {"vertical": "vertical", "parallel": "vertical", "horizontal": "horizontal",
+              "perpendicular": "horizontal"}
 
 # the failure column's codes per test: kept, or screened with the reason the
 # report gives; an empty cell keeps the specimen, any other text is refused
@@ -53,6 +62,10 @@ TEST_CODES = {
                      "screen": {"outside": "broke outside the constant-moment zone",
                                 "support": "broke at a support or under a loading point",
                                 "invalid": "declared invalid by the lab"}},
+    "wallette": {"keep": ("", "ok", "valid", "joint", "bed joint", "stepped", "unit", "inside"),
+                 "screen": {"outside": "broke outside the constant-moment zone",
+                            "support": "broke at a support or under a loading point",
+                            "invalid": "declared invalid by the lab"}},
 }
 # a results column, whose sheet does not say which test it holds, takes every
 # test's codes; its own reasons where they differ
@@ -67,11 +80,18 @@ FAILURE_CODES = {
 BOND_WRENCH = {"load": "F1", "lever arm": "e1", "wrench weight": "F2", "wrench lever arm": "e2",
                "unit weight": "F3", "width": "b", "depth": "d"}
 UNIT_FLEXURE = {"load": "P", "span": "L", "load span": "L_i", "width": "b", "depth": "d"}
+WALLETTE = {"load": "F", "support span": "l1", "load span": "l2", "width": "b", "thickness": "t",
+            "precompression": "sigma_d"}
+# a sheet's form by the column that tells it (the first found)
+FORMS = (("support span", WALLETTE, "wallette"), ("span", UNIT_FLEXURE, "unit_flexure"),
+         ("lever arm", BOND_WRENCH, "bond_wrench"))
 SYMBOLS = {"F1": ("N", "the failure load"), "F2": ("N", "the wrench's weight"), "F3": ("N", "the unit's weight"),
            "P": ("N", "the failure load"), "e1": ("m", "the lever arm"), "e2": ("m", "the wrench's lever arm"),
            "L": ("m", "the span"), "L_i": ("m", "the load span"), "b": ("m", "the width"), "d": ("m", "the depth"),
-           "lab": ("Pa", "the lab's computed strength")}
-OPTIONAL = ("F2", "e2", "F3", "L_i")
+           "lab": ("Pa", "the lab's computed strength"), "F": ("N", "the failure load"),
+           "l1": ("m", "the support span"), "l2": ("m", "the load span"), "t": ("m", "the thickness"),
+           "sigma_d": ("Pa", "the precompression")}
+OPTIONAL = ("F2", "e2", "F3", "L_i", "sigma_d")
 MEASURES = {"bond_wrench": "flexural_bond", "unit_flexure": "modulus_of_rupture"}
 
 
@@ -92,6 +112,13 @@ def flexural_strength(P, L, b, d, L_i=0.0):
     (2 b d^2); L_i = 0 is three-point bending (3 P L / 2 b d^2), L_i = L / 3
     third-point bending (P L / b d^2)."""
     return 3.0 * P * (L - L_i) / (2.0 * b * d ** 2)
+
+
+def wallette_strength(F, l1, l2, b, t):
+    """A wallette's flexural strength in four-point bending (EN 1052-2,
+    SI): the moment between the loads F (l1 - l2) / 4 over Z = b t^2 / 6,
+    f_x = 3 F (l1 - l2) / (2 b t^2)."""
+    return 3.0 * F * (l1 - l2) / (2.0 * b * t ** 2)
 
 
 def read_sheet(path, unit="Pa"):
@@ -138,6 +165,13 @@ def read_sheet(path, unit="Pa"):
                              f"kept {', '.join(c for c in codes['keep'] if c)} (or empty), screened "
                              f"{', '.join(codes['screen'])}")
         cell = {k: _cell(record[c], factors[c], k, where(row, c)) for c, k in keys.items()}
+        if form == "wallette":
+            said = record[text["direction"]].strip().lower()
+            if said not in DIRECTIONS:
+                raise InputError(where(row, text["direction"]), f"{record[text['direction']]!r} is no direction: "
+                                 "vertical (or parallel: the plane of failure parallel to the bed joints) or "
+                                 "horizontal (or perpendicular)")
+            cell["direction"] = DIRECTIONS[said]
         lab = next((c for c, k in keys.items() if k == "lab"), None)
         if lab:                                # half a unit of the last digit written
             cell["lab_rounding"] = 0.5 * 10.0 ** -len(record[lab].partition(".")[2]) * factors[lab]
@@ -169,13 +203,17 @@ def _columns(columns, row, where):
     if not named:
         raise InputError(where(row, columns[0]), "no column of results")
     names = set(named.values())
-    vocabulary = UNIT_FLEXURE if "span" in names else BOND_WRENCH if "lever arm" in names else None
+    form, vocabulary = next(((f, v) for column, v, f in FORMS if column in names), (None, None))
     if vocabulary is None:
         if len(named) == 1:
             return "results", {col: "result" for col in named}, text
         raise InputError(where(row, list(named)[1]), "one column of results ('f_tj [MPa]'), a bond-wrench sheet "
-                                                     "(a 'lever arm' column) or a flexural-test sheet (a 'span' column)")
-    form = "unit_flexure" if vocabulary is UNIT_FLEXURE else "bond_wrench"
+                                                     "(a 'lever arm' column), a flexural-test sheet (a 'span' "
+                                                     "column) or a wallette sheet (a 'support span' column)")
+    if form == "wallette" and "direction" not in text:
+        raise InputError(where(row, columns[0]), "a wallette sheet states each test's direction: add a column "
+                                                 "'direction', vertical (the plane of failure parallel to the bed "
+                                                 "joints, f_x1) or horizontal (perpendicular to them, f_x2)")
     keys = {}
     for col, name in named.items():
         if name not in vocabulary and "lab" not in keys.values() and _is_stress(col):
@@ -226,7 +264,7 @@ def _cell(text, factor, symbol, field):
 
 
 def _results(path, raw, form, keys, cells, screened, where, text, header_row):
-    result_col = next(c for c, k in keys.items() if k in ("result", "F1", "P"))
+    result_col = next(c for c, k in keys.items() if k in ("result", "F1", "P", "F"))
     if not cells:
         raise InputError(f"{path.name} rows {screened[0]['row']}-{screened[-1]['row']}, column '{text['failure']}'",
                          "every specimen is screened out: nothing is left to fit")
@@ -235,6 +273,11 @@ def _results(path, raw, form, keys, cells, screened, where, text, header_row):
     for row, c in cells:
         if form == "results":
             v = c["result"]
+        elif form == "wallette":
+            if c["l2"] >= c["l1"]:
+                raise InputError(where(row, next(k for k, s in keys.items() if s == "l2")),
+                                 "the load span must be shorter than the support span")
+            v = wallette_strength(c["F"], c["l1"], c["l2"], c["b"], c["t"])
         elif form == "bond_wrench":
             v = bond_wrench_strength(c["F1"], c["e1"], c["b"], c["d"], c.get("F2", 0.0), c.get("e2", 0.0),
                                      c.get("F3", 0.0))
@@ -259,11 +302,14 @@ def _results(path, raw, form, keys, cells, screened, where, text, header_row):
                          f"{len(values)} valid result{'s' if len(values) > 1 else ''}: at least {MIN_RESULTS} "
                          "are needed" + (f" ({len(screened)} screened out)" if screened else ""))
     quantity = re.match(r"(.*?)\s*\[", result_col)[1] if form == "results" else \
-        {"bond_wrench": "flexural bond strength", "unit_flexure": "modulus of rupture"}[form]
+        {"bond_wrench": "flexural bond strength", "unit_flexure": "modulus of rupture",
+         "wallette": "flexural strength"}[form]
     if "lab" in keys.values():
         method += f"; the lab's column '{next(k for k, s in keys.items() if s == 'lab')}' agrees with it"
-    depth = float(np.mean([c["d"] for _, c in cells])) if form != "results" else None
-    return {"name": path.name, "path": str(path), "sha256": hashlib.sha256(raw).hexdigest(), "form": form,
+    depth = float(np.mean([c["d"] for _, c in cells])) if form in ("bond_wrench", "unit_flexure") else None
+    per_test = {"directions": [c["direction"] for _, c in cells],
+                "levels": np.array([c.get("sigma_d", 0.0) for _, c in cells])} if form == "wallette" else {}
+    return {**per_test, "name": path.name, "path": str(path), "sha256": hashlib.sha256(raw).hexdigest(), "form": form,
             "quantity": quantity, "measured": MEASURES.get(form), "values": np.array(values),
             "rows": [r for r, _ in cells], "depth": depth, "screened": screened, "method": method,
             "header_row": header_row}
@@ -299,3 +345,23 @@ def conversion(measured, depth=None, factor=None, source=None):
         raise InputError("--depth", f"the {measured.replace('_', ' ')} converts at the specimen's depth: give it "
                                     "(such as --depth '100 mm')")
     return 1.0 / max(1.6 - depth * 1e3 / 1000.0, 1.0), CONVERSIONS[measured]
+
+
+def wallette_summary(lab):
+    """The lines ``fit`` prints for a wallette sheet: its tests per
+    direction and precompression (count, mean, range), and where they go
+    (beside a study's prediction: they are not fitted)."""
+    lines = [f"{lab['name']}: {len(lab['values'])} wallette tests ({lab['method']})"]
+    if lab["screened"]:
+        lines += [f"screened: row {r['row']} ({r['failure']}): {r['reason']}" for r in lab["screened"]]
+    keys = sorted(set(zip(lab["directions"], lab["levels"])))
+    for direction, level in keys:
+        x = np.array([v for d, lv, v in zip(lab["directions"], lab["levels"], lab["values"])
+                      if (d, lv) == (direction, level)]) / 1e6
+        name = "f_x1, plane of failure parallel to the bed joints" if direction == "vertical" else \
+            "f_x2, plane of failure perpendicular to the bed joints"
+        lines.append(f"{direction} bending ({name}) at {level / 1e6:g} MPa precompression: {x.size} tests, mean "
+                     f"{x.mean():.4g} MPa, {x.min():.4g} to {x.max():.4g} MPa")
+    lines.append("wallette tests are set beside a study's prediction, not fitted: name the sheet as the workflow "
+                 "config's directions: wallettes (docs/lab-to-design.md, 11)")
+    return lines

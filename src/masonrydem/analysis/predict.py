@@ -68,7 +68,9 @@ def build(fits, ns, scene, source, columns, units, variant, settings=None, study
                       unit_mm=[g.unit_length * 1e3, g.unit_height * 1e3, g.unit_width * 1e3],
                       joint_mm=g.joint_thickness * 1e3, section_height_m=bend.section,
                       thickness_m=g.unit_width, shear_span_m=bend.shear_span,
-                      section_as_built=bend.section_as_built, spans_in_units=bend.spans_in_units))
+                      section_as_built=bend.section_as_built, spans_in_units=bend.spans_in_units,
+                      **({"direction": "vertical", "bed_units": (g.common_span[1] - g.common_span[0]) / g.modelled_unit[0]}
+                         if bend.direction == "vertical" else {})))
 
 
 def lab_conversions(provenance):
@@ -104,10 +106,11 @@ def wallette_at(p, x):
         return w
     before = [v / 1e3 for v in w["unit_mm"]] + [w["joint_mm"] / 1e3]
     L, H, W, t = (given.get(k, v) for k, v in zip(BRICK, before))
+    vertical = w.get("direction") == "vertical"     # the section across the courses, the span along them
     if w.get("section_as_built"):
-        w["section_height_m"] = w["courses"] * H + (w["courses"] - 1) * t
+        w["section_height_m"] = w["bed_units"] * (L + t) - t if vertical else w["courses"] * H + (w["courses"] - 1) * t
     if w.get("spans_in_units"):
-        w["shear_span_m"] *= (L + t) / (before[0] + before[3])
+        w["shear_span_m"] *= (H + t) / (before[1] + before[3]) if vertical else (L + t) / (before[0] + before[3])
     w.update(unit_mm=[L * 1e3, H * 1e3, W * 1e3], joint_mm=t * 1e3, thickness_m=W, brick_from_inputs=True)
     return w
 
@@ -135,6 +138,8 @@ class Prediction:
     def lines(self):
         w = self.wallette
         which = "for this brick's wallette" if w.get("brick_from_inputs") else "for the wallette they were fitted on"
+        if w.get("direction") == "vertical":
+            which += " in vertical bending (plane of failure parallel to the bed joints: f_x1)"
         out = ["the strength of one wallette with these properties, by a study's prediction equations: not a mean "
                "strength and not a characteristic (5 %) value, which the study's statistics and characteristic "
                "tables give",
@@ -290,3 +295,25 @@ def _checked(p, name, spec, inputs, option):
                          + f" (they hold only there, and only for the wallette of the scene {p['scene']!r}: "
                          f"{_wallette(p['wallette'])})")
     return x
+
+
+def both_directions(predictor, other, options, scene, inputs):
+    """The lines ``predict`` prints: one study's prediction, or with
+    ``other`` (the same study's predictor in the other bending direction)
+    both, and the orthogonal ratio mu = f_x1 / f_x2 of the governing
+    strengths.  A study's directions table (directions.csv) gives mu per
+    level with its interval from the pairs of runs."""
+    first = predict(predictor, options, scene, **inputs)
+    if other is None:
+        return first.lines()
+    second = predict(other, options, None, **inputs)
+    dirs = [p.wallette.get("direction", "horizontal") for p in (first, second)]
+    if len(set(dirs)) == 1:
+        raise InputError("--other", f"{other} bends {dirs[1]}ly, as {predictor} does: give the same study's "
+                                    "predictor in the other direction")
+    by = dict(zip(dirs, (first, second)))
+    mu = by["vertical"].strength_mpa / by["horizontal"].strength_mpa
+    return ([*by["horizontal"].lines(), *by["vertical"].lines()] +
+            [f"mu = f_x1 / f_x2 = {by['vertical'].strength_mpa:.3f} / {by['horizontal'].strength_mpa:.3f} = "
+             f"{mu:.3f} (of these governing strengths; its interval from the study's pairs of runs: its "
+             "directions table)"])

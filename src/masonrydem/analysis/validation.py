@@ -216,7 +216,7 @@ def design_inputs(scene):
                 ft_joints=scene.value("materials.joints.ft") / 1e6, ft_units=scene.value("materials.units.ft") / 1e6)
 
 
-def design_table(fits, ns, resid_sd, levels, design, means, columns, level, level_column):
+def design_table(fits, ns, resid_sd, levels, design, means, columns, level, level_column, direction="horizontal"):
     """Against the precompression ``levels``: the lower-of-two prediction
     at the mean properties with a band of one standard deviation, which
     combines the scatter of the prediction over the sampled properties
@@ -228,7 +228,9 @@ def design_table(fits, ns, resid_sd, levels, design, means, columns, level, leve
     f_tu).  NaN predictions without an equation.  ``means``: each input's
     mean (Study.means), ``columns``: the inputs' columns in ``ns``,
     ``level``: the precompression's name as an input, ``level_column``
-    its column (the table's first)."""
+    its column (the table's first).  In vertical bending (``direction``)
+    AS3700's vertical rule instead (``as3700_vertical``): the horizontal
+    rules' planes of failure are not its."""
     f_tu, f_tj = design["ft_units"], design["ft_joints"]
     pred = band = prop_sd = prop_mean = np.full_like(levels, np.nan)
     if fits:
@@ -237,11 +239,13 @@ def design_table(fits, ns, resid_sd, levels, design, means, columns, level, leve
         props = ns.drop_duplicates("sample")            # the properties of every sample with an ok run
         prop_mean, prop_sd = E.prediction_over_samples(joint, brick, E.inputs_of(props, columns), level, levels)
         band = np.sqrt(prop_sd ** 2 + resid_sd ** 2)
+    curves = dict(prediction=pred, band_sd=band, property_sd=prop_sd, mean_over_samples=prop_mean)
+    if direction == "vertical":
+        return pd.DataFrame({level_column: levels, **curves, "as3700_vertical": as3700_vertical(f_tj, levels)})
     lg = lourenco_gaetani(design["c_ratio"] * f_tj, f_tu, design["l_o"], design["h_b"])
     as_stepped, as_line = as3700(f_tj, f_tu, levels)
-    return pd.DataFrame({level_column: levels, **dict(prediction=pred, band_sd=band, property_sd=prop_sd,
-                             mean_over_samples=prop_mean, lg_stepped=lg[0], lg_brick=lg[1], as3700_stepped=as_stepped,
-                             as3700_line=as_line)})
+    return pd.DataFrame({level_column: levels, **dict(**curves, lg_stepped=lg[0], lg_brick=lg[1],
+                                                      as3700_stepped=as_stepped, as3700_line=as_line)})
 
 
 # --- the source paper side by side (docs/study.md, 17; docs/findings.md) ---------------

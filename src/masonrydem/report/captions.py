@@ -245,17 +245,35 @@ def design_comparison(design, simulated, fitted, resid_sd, n_samples, inputs, va
     ``fitted``: the modes with an equation; ``resid_sd``: the predictor's
     residual scatter (MPa); ``n_samples``: the sampled property sets;
     ``inputs``: validation.design_inputs."""
+    vertical = "as3700_vertical" in design.columns
     lines = []
     for sv in simulated.index:
         at = {k: float(np.interp(sv, design.iloc[:, 0], design[k])) for k in design.columns}
+        rules = (f"AS3700 vertical {at['as3700_vertical']:.3f} MPa" if vertical else
+                 f"Lourenco-Gaetani stepped {at['lg_stepped']:.3f} / brick {at['lg_brick']:.3f} MPa; AS3700 stepped "
+                 f"{at['as3700_stepped']:.3f} / line {at['as3700_line']:.3f} MPa")
         lines.append(f"{sv:g} MPa: simulated **{simulated.loc[sv, 'mean']:.3f} +- "
                      f"{simulated.loc[sv, 'std']:.3f} MPa**, predicted **{at['prediction']:.3f} +- "
                      f"{at['band_sd']:.3f} MPa** at the mean properties, "
-                     f"**{at['mean_over_samples']:.3f} MPa** on average over the samples; Lourenco-Gaetani stepped "
-                     f"{at['lg_stepped']:.3f} / brick {at['lg_brick']:.3f} MPa; AS3700 stepped "
-                     f"{at['as3700_stepped']:.3f} / line {at['as3700_line']:.3f} MPa")
+                     f"**{at['mean_over_samples']:.3f} MPa** on average over the samples; {rules}")
+    if vertical:
+        rules = ("Beside them AS3700's vertical bending at mean values, the bond with the\n"
+                 "precompression f_mt + f_d, at most 3 f_mt (its f_mt taken as the joints' tensile bond,\n"
+                 "which the flexural bond strength measures); the horizontal-bending rules do not apply\n"
+                 "to a plane of failure parallel to the bed joints.")
+    else:
+        rules = ("Beside them the\n"
+                 f"Lourenco-Gaetani lower bounds (stepped: the joints' cohesion, {inputs['c_ratio']:g} times their "
+                 "tensile\n"
+                 f"bond, times l_o/h_b, with l_o = {1e3 * inputs['l_o']:.0f} mm the overlap of the modelled units "
+                 "and h_b =\n"
+                 f"{1e3 * inputs['h_b']:.0f} mm their height; brick: half the units' tensile strength) and the "
+                 "AS3700 rules at\n"
+                 "mean values (its f_mt taken as the joints' tensile bond, which the flexural bond strength\n"
+                 "measures; its f_ut as the units' tensile strength, standing for their lateral modulus of\n"
+                 "rupture).")
     return dict(f_tu=inputs["ft_units"], f_tj=inputs["ft_joints"], resid=resid_sd, n_samples=n_samples, variant=variant,
-                l_o=1e3 * inputs["l_o"], h_b=1e3 * inputs["h_b"], c_ratio=inputs["c_ratio"], lines=_bullets(lines),
+                rules=rules, lines=_bullets(lines),
                 equations=("the joint and brick equations" if len(fitted) == 2 else
                            f"the {fitted[0]} equation alone (too few runs of the other mode)" if fitted
                            else "no equation (too few runs)"))
@@ -367,3 +385,42 @@ def accuracy_subsample(table, fine):
              f"(COV {num(r.ratio_cov, '.3f')})" for r in table.itertuples()]
     return dict(n=int((table.runs + table.excluded).max()), levels=", ".join(f"{v:g}" for v in table.sigma_v_mpa),
                 fine=", ".join(fine), lines=_bullets(lines))
+
+
+def directions(table, level, mortar, mean, runs_own, runs_other, study):
+    """Both directions' caption (analysis.directions.with_codes): per
+    variant and level f_x1, f_x2 and mu with their intervals and the
+    simulated-to-code ratios."""
+    lines = []
+    for r in table.itertuples(index=False):
+        at = level.text(getattr(r, level.column))
+        lines.append(f"{r.variant}, {at}: f_x1 **{r.f_x1_mpa:.3f} MPa** ({r.f_x1_low:.3f} to {r.f_x1_high:.3f}), "
+                     f"f_x2 **{r.f_x2_mpa:.3f} MPa** ({r.f_x2_low:.3f} to {r.f_x2_high:.3f}), mu **{r.mu:.3f}** "
+                     f"({r.mu_low:.3f} to {r.mu_high:.3f}; pairs' correlation {r.pair_correlation:.2f}); "
+                     f"characteristic f_x1 {r.f_x1_k_mpa:.3f} / EN f_xk1 + sigma_d {r.en_fxk1_app_mpa:.3f} = "
+                     f"{r.f_x1_k_over_en:.2f}, f_x2 {r.f_x2_k_mpa:.3f} / EN f_xk2 {r.en_fxk2_mpa:.3f} = "
+                     f"{r.f_x2_k_over_en:.2f}; mean f_x1 / AS 3700 vertical {r.as3700_vertical_mpa:.3f} = "
+                     f"{r.f_x1_over_as3700:.2f}, mean f_x2 / AS 3700 horizontal {r.as3700_horizontal_mpa:.3f} = "
+                     f"{r.f_x2_over_as3700:.2f}")
+    return dict(study=study, pairs=int(table.pairs.max()) if len(table) else 0, runs_own=runs_own,
+                runs_other=runs_other, f_tj=mean["ft_joints"], f_tu=mean["ft_units"], mortar=mortar,
+                lines=_bullets(lines))
+
+
+def wallette_tests(tested, agreement, sheet, variant, level):
+    """The user's wallette tests in the prediction: each test's percentile
+    among the runs of its direction and level, and the exact test of their
+    agreement (analysis.directions.agreement) in words."""
+    u, mean, p = agreement
+    lines = [f"test row {r.row}, {r.direction}, {level.text(getattr(r, level.column))}: "
+             f"**{r.strength_mpa:.3f} MPa**, above {r.runs_below:g} of {r.runs} runs (mean "
+             f"{r.simulated_mean_mpa:.3f} MPa): predicted percentile **{100 * r.percentile:.0f} %**"
+             for r in tested.itertuples(index=False)]
+    verdict = ("they agree with the prediction at the 5 % level" if p > 0.05 else
+               "they disagree with the prediction at the 5 % level: the model, fed by the component tests, "
+               f"predicts them {'too low' if u > mean else 'too high'}")
+    return (f"The user's own wallette tests ({sheet}), each placed among the {variant} runs of its direction "
+            f"and level (ties count half):\n\n" + _bullets(lines) + "\n\nTheir agreement, an exact stratified "
+            f"Mann-Whitney test (under the prediction each test is one more draw of its direction's and level's "
+            f"distribution): runs below the tests {u:g} against {mean:g} expected, two-sided **p = {p:.3f}**: "
+            f"{verdict}.  With a handful of tests it finds only large misses (its power: docs/lab-to-design.md, 11).")

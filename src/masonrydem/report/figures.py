@@ -198,10 +198,14 @@ def design_comparison(design, simulated, path, variant, level, fitted):
         ax.fill_between(levels, pred - band, pred + band, color="k", alpha=0.15,
                         label="+- 1 SD of the prediction over the samples")
         ax.plot(levels, design.mean_over_samples, "k--", lw=1.2, label="mean of the prediction over the samples")
-    ax.plot(levels, design.lg_stepped, "--", color="tab:blue", label="Lourenco-Gaetani stepped")
-    ax.plot(levels, design.lg_brick, "--", color="tab:red", label="Lourenco-Gaetani brick")
-    ax.plot(levels, design.as3700_stepped, ":", color="tab:blue", lw=2, label="AS3700 stepped")
-    ax.plot(levels, design.as3700_line, ":", color="tab:red", lw=2, label="AS3700 line")
+    if "as3700_vertical" in design:         # vertical bending: its own rule
+        ax.plot(levels, design.as3700_vertical, ":", color="tab:blue", lw=2,
+                label="AS3700 vertical: f_mt + f_d, at most 3 f_mt")
+    else:
+        ax.plot(levels, design.lg_stepped, "--", color="tab:blue", label="Lourenco-Gaetani stepped")
+        ax.plot(levels, design.lg_brick, "--", color="tab:red", label="Lourenco-Gaetani brick")
+        ax.plot(levels, design.as3700_stepped, ":", color="tab:blue", lw=2, label="AS3700 stepped")
+        ax.plot(levels, design.as3700_line, ":", color="tab:red", lw=2, label="AS3700 line")
     ax.errorbar(simulated.index, simulated["mean"], yerr=simulated["std"], fmt="o", color="tab:green", capsize=3,
                 label=f"simulated mean +- 1 SD ({variant})")
     ax.set_xlabel(_axis(level))
@@ -394,3 +398,36 @@ def tornado(table, path, titles=None):
     fig.tight_layout(rect=(0, 0, 1, 1 - 0.5 / fig.get_figheight()))
     fig.savefig(path, dpi=100)
     plt.close(fig)
+
+
+def directions(table, level, path, tested=None):
+    """Both directions per level (analysis.directions.with_codes): f_x1 and
+    f_x2 with their 95 % intervals and the codes beside them (left), mu
+    with Fieller's interval (right); a variant a marker each; the user's
+    wallette tests (analysis.directions.placed) as crosses."""
+    fig, (ax, axm) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for direction, color, name in (("vertical", "tab:blue", "f_x1"), ("horizontal", "tab:red", "f_x2")):
+        t = tested[tested.direction == direction] if tested is not None and len(tested) else []
+        if len(t):
+            ax.plot(t[level.column], t.strength_mpa, "x", color=color, ms=8, label=f"your {name} tests")
+    for k, (variant, g) in enumerate(table.groupby("variant", sort=False)):
+        x = g[level.column].to_numpy(float)
+        for name, color in (("f_x2", "tab:red"), ("f_x1", "tab:blue")):
+            m = g[f"{name}_mpa"]
+            ax.errorbar(x, m, yerr=[m - g[f"{name}_low"], g[f"{name}_high"] - m], fmt="os^"[k % 3], color=color,
+                        capsize=3, label=f"{name} mean, 95 % interval ({variant})")
+        axm.errorbar(x, g.mu, yerr=[g.mu - g.mu_low, g.mu_high - g.mu], fmt="os^"[k % 3], color="k", capsize=3,
+                     label=f"mu = f_x1 / f_x2 ({variant})")
+        if k == 0:
+            ax.plot(x, g.en_fxk1_app_mpa, ":", color="tab:blue", label="EN 1996-1-1 f_xk1 + sigma_d")
+            ax.plot(x, g.en_fxk2_mpa, ":", color="tab:red", label="EN 1996-1-1 f_xk2")
+            ax.plot(x, g.as3700_vertical_mpa, "--", color="tab:blue", label="AS 3700 vertical (mean values)")
+            ax.plot(x, g.as3700_horizontal_mpa, "--", color="tab:red", label="AS 3700 horizontal (mean values)")
+            axm.plot(x, g.en_fxk1_app_mpa / g.en_fxk2_mpa, ":", color="tab:gray",
+                     label="EN 1996-1-1 (f_xk1 + sigma_d) / f_xk2")
+    for a, ylabel in ((ax, "flexural strength (MPa)"), (axm, "orthogonal ratio mu")):
+        a.set_xlabel(_axis(level))
+        a.set_ylabel(ylabel)
+        a.grid(alpha=0.3)
+        a.legend(fontsize=8)
+    _save(fig, path)
