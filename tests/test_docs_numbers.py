@@ -522,3 +522,21 @@ def test_both_directions_as_quoted():
         lo, hi = 100 * g.percentile.min(), 100 * g.percentile.max()
         assert f"at the {lo:.0f}th to {hi:.0f}rd" in text or f"at the {lo:.0f}th to {hi:.0f}th" in text, direction
     assert f"p = {agreement(tests)[2]:.3f}" in text
+
+
+def test_the_fracture_energys_effect_as_quoted():
+    """docs/formulation.md's peaks of the committed vertical scene over its
+    brittle limit f_tj Z (M = P a / 2, Z of the section as modelled), at
+    the vertical defaults without precompression, are
+    results/accuracy/vertical.csv's."""
+    from masonrydem.scene import build_scene
+    scene = build_scene(str(ROOT / "config/scenes/solid_vertical.yaml"))
+    g, a = scene.geometry, scene.loading.bending.shear_span
+    x0, x1 = g.common_span
+    Z = (x1 - x0) * g.unit_width ** 2 / 6
+    runs = pd.read_csv(RESULTS / "accuracy/vertical.csv")
+    runs = runs[(runs.candidate == "vertical defaults") & (runs.pressure_mpa == 0)].sort_values("f_tj_mpa")
+    ratios = [r.P_max_kN * 1e3 * a / 2 / (r.f_tj_mpa * 1e6 * Z) for r in runs.itertuples()]
+    text = _flat(DOCS["docs/formulation.md"])
+    assert (f"{ratios[0]:.2f}, {ratios[1]:.2f} and {ratios[2]:.2f} times f_tj Z at f_tj = "
+            + ", ".join(f"{f:g}" for f in runs.f_tj_mpa[:2]) + f" and {runs.f_tj_mpa.iloc[2]:g} MPa") in text

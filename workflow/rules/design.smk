@@ -45,9 +45,9 @@ if config.get("directions"):
         output:
             table=f"{R}/study/directions.csv",
             tests=f"{R}/study/wallette_tests.csv",
-            figure=report(f"{R}/study/directions.png", caption=get_caption("directions"), category="Directions"),
-            page=report(f"{R}/report/tables/directions.html", caption=get_caption("directions"),
-                        category="Directions"),
+            figure=item(f"{R}/study/directions.png", "directions", "Directions", "f_x1, f_x2 and mu per level"),
+            page=item(f"{R}/report/tables/directions.html", "directions", "Directions",
+                      "f_x1, f_x2, mu and the codes: table"),
             caption=get_caption_file("directions"),
         params:
             code=get_code("directions"),

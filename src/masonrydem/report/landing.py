@@ -81,12 +81,17 @@ def _rst_table(head, rows):
     return "\n".join([rule, line(head), rule, *map(line, rows), rule])
 
 
-def landing(runs, stats, excluded, level, report, source, card=None, band=None):
+# the test a vertical study runs, in the landing page's words
+VERTICAL = "four-point out-of-plane vertical bending (the plane of failure parallel to the bed joints)"
+
+
+def landing(runs, stats, excluded, level, report, source, card=None, band=None, direction="horizontal"):
     """The fields of the landing page: what was run, how, the study's key
     table (mean P_max, COV, brick share per variant and level), the
     comparison with the paper (``card``: the scorecard; ``band``:
     modelform_band, or None); ``report``: pipeline.plan.report_spec;
-    ``source``: the study's source (source)."""
+    ``source``: the study's source (source); ``direction``: the study's
+    bending direction."""
     rows = [(r.variant, f"{getattr(r, level.column):g}", f"{r.P_max_mean_kN:.2f}", f"{r.strength_mean_mpa:.3f}",
              num(r.P_max_cov, ".3f"), f"{100 * r.brick_share:.0f}", str(r.count))
             for r in stats[stats["mode"] == "all"].itertuples()]
@@ -102,7 +107,8 @@ def landing(runs, stats, excluded, level, report, source, card=None, band=None):
     links = "\n".join(f"- {name if name.isalnum() else f'`{name}`'}_: {what}." for name, what in report["categories"])
     accuracy = any(name == "Accuracy" for name, _ in report["categories"])
     return dict(study=report["study"], rule="=" * len(f"masonrydem: the study {report['study']}"),
-                scene=report["scene"], wallette=report["wallette"], test=report["test"], source=source,
+                scene=report["scene"], wallette=report["wallette"], source=source,
+                test=VERTICAL if direction == "vertical" else report["test"],
                 under=" under vertical precompression" if report["precompression"] else "",
                 inputs=f"its {len(report['inputs'])} random input{'s' if len(report['inputs']) > 1 else ''} "
                        f"({', '.join(report['inputs'])})",
