@@ -39,7 +39,7 @@ if config.get("directions"):
         Fieller's interval, the codes beside them."""
         input:
             runs=f"{R}/study/runs.parquet",
-            pair=f"{config['directions']['pair']}/study/runs.parquet",
+            pair=os.path.normpath(os.path.join(R, config["directions"]["pair"], "study", "runs.parquet")),
             wallettes=[config["directions"]["wallettes"]] if config["directions"].get("wallettes") else [],
             template=get_template("directions"),
         output:

@@ -152,3 +152,4 @@ rule study:
     1000 simulations, analysis, figures, pictures)."""
     input:
         get_study_outputs(),
+        get_directions_outputs(),
