@@ -35,6 +35,10 @@ install: $(STAMP)
 REPRO := reproduction/results
 ACCURACY ?= 0
 STUDY_CONFIGS := $(sort $(wildcard config/studies/*_workflow.yaml config/studies/formats/*_workflow.yaml))
+# a study in its other bending direction (study: direction:) pairs with the
+# first direction's runs: after every other one
+PAIRED_CONFIGS := $(shell grep -l '^  direction:' $(STUDY_CONFIGS))
+STUDY_CONFIGS := $(filter-out $(PAIRED_CONFIGS),$(STUDY_CONFIGS)) $(PAIRED_CONFIGS)
 REPRO_CONFIG := results=$(REPRO) further_results=$(REPRO)/studies
 reproduce: $(STAMP)
 	@echo "make reproduce: the further studies ($(STUDY_CONFIGS:config/studies/%_workflow.yaml=%)), then validation,"
