@@ -279,7 +279,7 @@ FAULTS = [
     ("the weighted variance over the sum of weights", "analysis/design.py",
      "/ (sw - np.square(w).sum(-1) / sw)", "/ sw"),
     # captions
-    ("the overlap in cm", "report/captions.py", 'l_o=1e3 * inputs["l_o"]', 'l_o=1e2 * inputs["l_o"]'),
+    ("the overlap in cm", "report/captions.py", "{1e3 * inputs['l_o']:.0f}", "{1e2 * inputs['l_o']:.0f}"),
     ("the running mean's error with n", "report/captions.py", "se = g.P_max_kN.std(ddof=1) /",
      "se = g.P_max_kN.std(ddof=0) /"),
     ("a caption's correlation noise at n", "report/captions.py",

@@ -248,7 +248,7 @@ def test_design_table_and_caption(willis, columns, monkeypatch):
     assert captions.design_comparison(design, simulated, [], 0.02, 2, inputs, "nonspatial")["equations"] == \
         "no equation (too few runs)"
     saved = []
-    monkeypatch.setattr(figures, "_save", lambda fig, path: saved.append(fig))
+    monkeypatch.setattr(figures, "save", lambda fig, path: saved.append(fig))
     for fitted in (["joint", "brick"], ["joint"], []):
         figures.design_comparison(design, simulated, "x.png", "nonspatial", analysis.Level("p_mpa", "p", "MPa"), fitted)
     labels = [[t.get_text() for t in fig.axes[0].get_legend().get_texts()] for fig in saved]
@@ -331,7 +331,7 @@ def test_the_study_figures_have_a_panel_per_variant_and_none_empty(monkeypatch, 
     one panel each, every panel with its lines (no empty second panel);
     two variants, two."""
     saved = []
-    monkeypatch.setattr(figures, "_save", lambda fig, path: saved.append(fig))
+    monkeypatch.setattr(figures, "save", lambda fig, path: saved.append(fig))
     runs = _runs()
     for variants in (["nonspatial"], ["nonspatial", "other"]):
         both = pd.concat([runs.assign(variant=v) for v in variants], ignore_index=True)

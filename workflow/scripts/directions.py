@@ -14,7 +14,8 @@ from masonrydem.analysis import labsheet  # noqa: E402
 from masonrydem.analysis import validation as V  # noqa: E402
 from masonrydem.analysis.statistics import of_study  # noqa: E402
 from masonrydem.pipeline import plan  # noqa: E402
-from masonrydem.report import captions, figures, tables  # noqa: E402
+from masonrydem.report import captions, tables  # noqa: E402
+from masonrydem.report import directions as RD  # noqa: E402
 from masonrydem.scene import build_scene  # noqa: E402
 
 cfg, study = sm.params.directions, plan.study(sm.config)
@@ -35,12 +36,12 @@ if sm.input.wallettes:
     variant = study.regression_variant
     ok = {d: r[r.ok & (r.variant == variant)] for d, r in (("horizontal", horizontal), ("vertical", vertical))}
     tested = D.placed(sheet, ok, level.column)
-    words = captions.wallette_tests(tested, D.agreement(tested), sheet["name"], variant, level)
+    words = RD.tests_words(tested, D.agreement(tested), sheet["name"], variant, level)
 tested.to_csv(sm.output.tests, index=False, float_format="%.6g")
 print(tested.to_string())
-figures.directions(table, level, sm.output.figure, tested)
+RD.figure(table, level, sm.output.figure, tested)
 title = "Both bending directions on the same samples: f_x1, f_x2 and mu per level, the codes beside them"
 open(sm.output.page, "w").write(tables.html_table(table, title))
 captions.write_caption(sm.input.template, sm.output.caption,
                        tests=words,
-                       **captions.directions(table, level, cfg["mortar"], mean, len(own), len(other), study.name))
+                       **RD.caption(table, level, cfg["mortar"], mean, len(own), len(other), study.name))

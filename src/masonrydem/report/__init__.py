@@ -3,4 +3,4 @@
 
 # its modules, each imported on its own: a caller of one loads no other's
 # libraries (scikit-learn, matplotlib, pyvista)
-__all__ = ["captions", "figures", "landing", "pictures", "tables"]
+__all__ = ["captions", "directions", "figures", "landing", "pictures", "tables"]

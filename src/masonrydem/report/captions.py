@@ -38,14 +38,14 @@ def num(x, spec):
     return "undefined" if pd.isna(x) else format(x, spec)
 
 
-def _bullets(lines):
+def bullets(lines):
     return "\n".join(f"- {line}" for line in lines)
 
 
 # --- validation, stability, reduced models, specimens ----------------------------
 def validation_summary(table):
     """validation.summary_table's rows."""
-    return dict(lines=_bullets(
+    return dict(lines=bullets(
         f"{r.case}, sigma_v = {r.sigma_v_mpa:g} MPa: **P_max {r.P_max_kN:.3f} kN** at {r.disp_at_peak_mm:.3f} mm "
         f"({r.strength_mpa:.3f} MPa, initial stiffness {r.initial_stiffness_kN_per_mm:.1f} kN/mm), "
         f"{r.failure_mode} failure, {r.status}, {r.P_max_change_vs_reference_pct:+.2f} % against the reference"
@@ -61,7 +61,7 @@ def hard_cases(table, limit):
              f"load unbalanced by {r.unbalance_at_peak:.4f} at the peak, post-peak {r.post_peak}"
              + ("" if pd.isna(r.half_rate_change_pct) else f", {r.half_rate_change_pct:+.2f} % against {r.case}")
              for r in table.itertuples()]
-    return dict(lines=_bullets(lines), n=len(table), unmet=int((~(table.mode_as_expected & table.ok)).sum()),
+    return dict(lines=bullets(lines), n=len(table), unmet=int((~(table.mode_as_expected & table.ok)).sum()),
                 limit=f"{limit:g}")
 
 
@@ -75,7 +75,7 @@ def reduced(table, tolerance):
                   f"{', good enough' if r.good_enough else ''})" for r in g[g.model != "full"].itertuples()]
         lines.append(f"{case} (sigma_v {full.sigma_v_mpa:g} MPa, f_tj {full.f_tj_mpa:g} MPa): " + "; ".join(parts))
     good = table[(table.model != "full") & table.good_enough]
-    return dict(lines=_bullets(lines), tolerance=f"{100 * tolerance:g} %",
+    return dict(lines=bullets(lines), tolerance=f"{100 * tolerance:g} %",
                 good=", ".join(f"{r.model} on {r.case}" for r in good.itertuples()) or "none")
 
 
@@ -91,7 +91,7 @@ def specimens(table):
                      f"{100 * r.peak_error:+.1f} %; at the end {r.end_stress_mpa:.3f} MPa against sigma tan phi = "
                      f"{r.residual_closed_form_mpa:.3f} MPa: {100 * r.residual_error:+.1f} %")
         lines.append(line)
-    return dict(lines=_bullets(lines))
+    return dict(lines=bullets(lines))
 
 
 # --- the stochastic study ---------------------------------------------------------
@@ -144,9 +144,9 @@ def statistics(runs, stats, corr, inc, level, inputs, report):
         corr_lines.append(f"{r.variant}, {level.text(getattr(r, level.column))}: {top} ({vals[top]:+.2f}); "
                           + ", ".join(f"{n} {v:+.2f}" for n, v in vals.items()))
     return dict(
-        statistics=dict(excluded=int((~runs.ok).sum()), total=len(runs), lines=_bullets(stat_lines),
+        statistics=dict(excluded=int((~runs.ok).sum()), total=len(runs), lines=bullets(stat_lines),
                         excluded_detail=excluded_detail(runs)),
-        correlations=dict(lines=_bullets(corr_lines), noise=noise, inputs=", ".join(inputs),
+        correlations=dict(lines=bullets(corr_lines), noise=noise, inputs=", ".join(inputs),
                           fields=FIELDS_NOTE if any(d != "wallette" for d in report["draws"].values()) else "",
                           spreads="; ".join(spread(v) for v in sorted(runs.variant.unique()))),
         increase=dict(lines="; ".join(f"{r.variant} {r.mode} **{100 * r.increase:+.0f} %** "
@@ -219,7 +219,7 @@ def study_pictures(picked, level):
                      f"(the level with "
                      f"most {mode} failures, {len(at)} of them, median P_max {at.P_max_kN.median():.2f} kN): "
                      f"P_max **{pick.P_max_kN:.2f} kN**, repeated exactly by the rerun")
-    return dict(lines=_bullets(lines))
+    return dict(lines=bullets(lines))
 
 
 def equations(rows, terms, variant):
@@ -236,7 +236,7 @@ def equations(rows, terms, variant):
                          f"alpha {r['alpha']:.3g}")
         else:
             lines.append(f"{r['mode']} failure ({r['n']} runs): {r['equation']}")
-    return dict(lines=_bullets(lines), terms=", ".join(terms), variant=variant)
+    return dict(lines=bullets(lines), terms=", ".join(terms), variant=variant)
 
 
 def design_comparison(design, simulated, fitted, resid_sd, n_samples, inputs, variant):
@@ -273,7 +273,7 @@ def design_comparison(design, simulated, fitted, resid_sd, n_samples, inputs, va
                  "measures; its f_ut as the units' tensile strength, standing for their lateral modulus of\n"
                  "rupture).")
     return dict(f_tu=inputs["ft_units"], f_tj=inputs["ft_joints"], resid=resid_sd, n_samples=n_samples, variant=variant,
-                rules=rules, lines=_bullets(lines),
+                rules=rules, lines=bullets(lines),
                 equations=("the joint and brick equations" if len(fitted) == 2 else
                            f"the {fitted[0]} equation alone (too few runs of the other mode)" if fitted
                            else "no equation (too few runs)"))
@@ -303,7 +303,7 @@ def paper_comparison(card):
                      f"bias **{eq10[bias]:+.1f} %**")
     offsets = means.difference_pct
     offsets = (f"{offsets.min():+.1f} to {offsets.max():+.1f} %" if len(offsets) else "(no level in common)")
-    return dict(lines=_bullets(lines), offsets=offsets)
+    return dict(lines=bullets(lines), offsets=offsets)
 
 
 def modelform(table):
@@ -318,13 +318,13 @@ def modelform(table):
         lines.append(f"{case} failure case, {sv:g} MPa (baseline **{base.P_max_kN:.2f} kN**, {base.failure_mode}): "
                      + ", ".join(f"{r.assumption} {r.option} **{r.change_pct:+.1f} %**" for r in top.itertuples())
                      + (f"; mode changed by {changed}" if changed else ""))
-    return dict(n_assumptions=t.assumption.nunique(), n_runs=len(table), lines=_bullets(lines))
+    return dict(n_assumptions=t.assumption.nunique(), n_runs=len(table), lines=bullets(lines))
 
 
 # --- the accuracy study -------------------------------------------------------------
 def accuracy_convergence(conv):
     """accuracy.sweep_table's convergence table, one line per case."""
-    return dict(lines=_bullets(
+    return dict(lines=bullets(
         f"{r.case}: **{r.reference_kN:.3f} kN** ({r.reference_mode} failure), {r.method}; path "
         f"(setting: P_max kN) {r.levels}; observed orders of consecutive levels {r.orders or 'none'}; "
         f"finest level {100 * r.finest_error:+.2f} % from the reference"
@@ -364,7 +364,7 @@ def accuracy_choice(table, conv, choice, baselines, tolerance, numerics):
                     f"; not judged, no converged reference: {', '.join(unjudged)}" if unjudged else ""),
                 tolerance=f"{100 * tolerance:g} %",
                 knee=describe(knee.iloc[0]) if len(knee) else "NONE within the tolerance",
-                numerics=", ".join(numerics) or "the scene's own", default=describe("default"), oat=_bullets(oat))
+                numerics=", ".join(numerics) or "the scene's own", default=describe("default"), oat=bullets(oat))
 
 
 def accuracy_scaling(table, courses):
@@ -384,43 +384,5 @@ def accuracy_subsample(table, fine):
              f"same mode in {r.same_mode} of {r.runs}; P_max default/fine {num(r.ratio_mean, '.3f')} "
              f"(COV {num(r.ratio_cov, '.3f')})" for r in table.itertuples()]
     return dict(n=int((table.runs + table.excluded).max()), levels=", ".join(f"{v:g}" for v in table.sigma_v_mpa),
-                fine=", ".join(fine), lines=_bullets(lines))
+                fine=", ".join(fine), lines=bullets(lines))
 
-
-def directions(table, level, mortar, mean, runs_own, runs_other, study):
-    """Both directions' caption (analysis.directions.with_codes): per
-    variant and level f_x1, f_x2 and mu with their intervals and the
-    simulated-to-code ratios."""
-    lines = []
-    for r in table.itertuples(index=False):
-        at = level.text(getattr(r, level.column))
-        lines.append(f"{r.variant}, {at}: f_x1 **{r.f_x1_mpa:.3f} MPa** ({r.f_x1_low:.3f} to {r.f_x1_high:.3f}), "
-                     f"f_x2 **{r.f_x2_mpa:.3f} MPa** ({r.f_x2_low:.3f} to {r.f_x2_high:.3f}), mu **{r.mu:.3f}** "
-                     f"({r.mu_low:.3f} to {r.mu_high:.3f}; pairs' correlation {r.pair_correlation:.2f}); "
-                     f"characteristic f_x1 {r.f_x1_k_mpa:.3f} / EN f_xk1 + sigma_d {r.en_fxk1_app_mpa:.3f} = "
-                     f"{r.f_x1_k_over_en:.2f}, f_x2 {r.f_x2_k_mpa:.3f} / EN f_xk2 {r.en_fxk2_mpa:.3f} = "
-                     f"{r.f_x2_k_over_en:.2f}; mean f_x1 / AS 3700 vertical {r.as3700_vertical_mpa:.3f} = "
-                     f"{r.f_x1_over_as3700:.2f}, mean f_x2 / AS 3700 horizontal {r.as3700_horizontal_mpa:.3f} = "
-                     f"{r.f_x2_over_as3700:.2f}")
-    return dict(study=study, pairs=int(table.pairs.max()) if len(table) else 0, runs_own=runs_own,
-                runs_other=runs_other, f_tj=mean["ft_joints"], f_tu=mean["ft_units"], mortar=mortar,
-                lines=_bullets(lines))
-
-
-def wallette_tests(tested, agreement, sheet, variant, level):
-    """The user's wallette tests in the prediction: each test's percentile
-    among the runs of its direction and level, and the exact test of their
-    agreement (analysis.directions.agreement) in words."""
-    u, mean, p = agreement
-    lines = [f"test row {r.row}, {r.direction}, {level.text(getattr(r, level.column))}: "
-             f"**{r.strength_mpa:.3f} MPa**, above {r.runs_below:g} of {r.runs} runs (mean "
-             f"{r.simulated_mean_mpa:.3f} MPa): predicted percentile **{100 * r.percentile:.0f} %**"
-             for r in tested.itertuples(index=False)]
-    verdict = ("they agree with the prediction at the 5 % level" if p > 0.05 else
-               "they disagree with the prediction at the 5 % level: the model, fed by the component tests, "
-               f"predicts them {'too low' if u > mean else 'too high'}")
-    return (f"The user's own wallette tests ({sheet}), each placed among the {variant} runs of its direction "
-            f"and level (ties count half):\n\n" + _bullets(lines) + "\n\nTheir agreement, an exact stratified "
-            f"Mann-Whitney test (under the prediction each test is one more draw of its direction's and level's "
-            f"distribution): runs below the tests {u:g} against {mean:g} expected, two-sided **p = {p:.3f}**: "
-            f"{verdict}.  With a handful of tests it finds only large misses (its power: docs/lab-to-design.md, 11).")

@@ -32,12 +32,12 @@ def symbol(name):
     return f"${letter}" + (f"_{{{sub.replace('_', ',')}}}" if sub else "") + "$"
 
 
-def _axis(level):
+def axis_label(level):
     """The axis label of a swept level (analysis.Level)."""
     return f"{symbol(level.name)} ({level.unit})" if level.unit else symbol(level.name)
 
 
-def _save(fig, path):
+def save(fig, path):
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -60,7 +60,7 @@ def running_mean(runs, path, level):
     axes[0].set_ylabel(r"running mean of $P_{max}$ (kN)")
     axes[-1].legend(title=symbol(level.name), fontsize=8, loc="center left",
                     bbox_to_anchor=(1.01, 0.5))
-    _save(fig, path)
+    save(fig, path)
 
 
 def _with_interval(ax, x, y, lo, hi, fmt, **kw):
@@ -76,11 +76,11 @@ def brick_share(stats, path, level):
     for variant, g in stats[stats["mode"] == "all"].groupby("variant"):
         _with_interval(ax, g[level.column], 100 * g.brick_share, 100 * g.brick_share_lo, 100 * g.brick_share_hi,
                        "o-", label=variant)
-    ax.set_xlabel(_axis(level))
+    ax.set_xlabel(axis_label(level))
     ax.set_ylabel("brick failures (%)")
     ax.grid(alpha=0.3)
     ax.legend()
-    _save(fig, path)
+    save(fig, path)
 
 
 def correlation_vs_sigma(corr, path, level, inputs, names):
@@ -97,12 +97,12 @@ def correlation_vs_sigma(corr, path, level, inputs, names):
             _with_interval(ax, x + shift * (k - (len(inputs) - 1) / 2), g[name], g[f"{name}_lo"], g[f"{name}_hi"],
                            "o-", label=symbol(names[name]))
         ax.set_title(variant)
-        ax.set_xlabel(_axis(level))
+        ax.set_xlabel(axis_label(level))
         ax.axhline(0, color="k", lw=0.5)
         ax.grid(alpha=0.3)
     axes[0][0].set_ylabel(r"Pearson correlation with $P_{max}$")
     axes[0][-1].legend()
-    _save(fig, path)
+    save(fig, path)
 
 
 def scatter_deviation(runs, at, path, level, means, variant, names):
@@ -127,7 +127,7 @@ def scatter_deviation(runs, at, path, level, means, variant, names):
         row[0].set_ylabel(P_MAX)
     axes[0][0].legend()
     fig.suptitle(f"{variant}, {symbol(level.name)} = {level.text(at)}")
-    _save(fig, path)
+    save(fig, path)
 
 
 def curves_by_mode(runs, curves, levels, path, level):
@@ -154,7 +154,7 @@ def curves_by_mode(runs, curves, levels, path, level):
     axes[0][0].plot([], [], color=MODES["joint"], label="joint failure")
     axes[0][0].plot([], [], color=MODES["brick"], label="brick failure")
     axes[0][0].legend()
-    _save(fig, path)
+    save(fig, path)
 
 
 def predicted_vs_simulated(fits, path):
@@ -177,7 +177,7 @@ def predicted_vs_simulated(fits, path):
     ax2.set_xlabel("out-of-fold prediction error (%)")
     ax2.set_ylabel("runs")
     ax2.legend()
-    _save(fig, path)
+    save(fig, path)
 
 
 def design_comparison(design, simulated, path, variant, level, fitted):
@@ -199,8 +199,7 @@ def design_comparison(design, simulated, path, variant, level, fitted):
                         label="+- 1 SD of the prediction over the samples")
         ax.plot(levels, design.mean_over_samples, "k--", lw=1.2, label="mean of the prediction over the samples")
     if "as3700_vertical" in design:         # vertical bending: its own rule
-        ax.plot(levels, design.as3700_vertical, ":", color="tab:blue", lw=2,
-                label="AS3700 vertical: f_mt + f_d, at most 3 f_mt")
+        ax.plot(levels, design.as3700_vertical, ":", color="tab:blue", lw=2, label="AS3700 vertical: f_mt + f_d, <= 3 f_mt")
     else:
         ax.plot(levels, design.lg_stepped, "--", color="tab:blue", label="Lourenco-Gaetani stepped")
         ax.plot(levels, design.lg_brick, "--", color="tab:red", label="Lourenco-Gaetani brick")
@@ -208,11 +207,11 @@ def design_comparison(design, simulated, path, variant, level, fitted):
         ax.plot(levels, design.as3700_line, ":", color="tab:red", lw=2, label="AS3700 line")
     ax.errorbar(simulated.index, simulated["mean"], yerr=simulated["std"], fmt="o", color="tab:green", capsize=3,
                 label=f"simulated mean +- 1 SD ({variant})")
-    ax.set_xlabel(_axis(level))
+    ax.set_xlabel(axis_label(level))
     ax.set_ylabel("strength (MPa)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
-    _save(fig, path)
+    save(fig, path)
 
 
 def accuracy_pareto(table, conv, choice, tolerance, path):
@@ -237,7 +236,7 @@ def accuracy_pareto(table, conv, choice, tolerance, path):
         ax.axis("off")
     axes.flat[len(cases)].legend(handles.values(), handles.keys(), loc="center", fontsize=10,
                                  title="|P_max error| against the converged reference")
-    _save(fig, path)
+    save(fig, path)
 
 
 def _pareto_panel(ax, runs, ref, knee, tolerance):
@@ -310,7 +309,7 @@ def accuracy_scaling(table, path):
             ax.yaxis.set_minor_formatter(matplotlib.ticker.FuncFormatter(
                 lambda v, _: f"{v:g}" if round(v / 10 ** np.floor(np.log10(v))) in (2, 3, 5) else ""))
         axes[1][j].set_xlabel(xlabel)
-    _save(fig, path)
+    save(fig, path)
 
 
 def accuracy_subsample(paired, path):
@@ -332,7 +331,7 @@ def accuracy_subsample(paired, path):
     ax.set_ylabel("P_max, default settings (kN)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    _save(fig, path)
+    save(fig, path)
 
 
 def placeholder(text, path):
@@ -359,7 +358,7 @@ def paper_comparison(card, path):
         ax.set_ylabel({"F_max mean (kN)": r"mean $F_{max}$ (kN)", "F_max COV": r"COV of $F_{max}$"}[item])
         ax.grid(alpha=0.3)
     axes[-1].legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
-    _save(fig, path)
+    save(fig, path)
 
 
 def tornado(table, path, titles=None):
@@ -399,35 +398,3 @@ def tornado(table, path, titles=None):
     fig.savefig(path, dpi=100)
     plt.close(fig)
 
-
-def directions(table, level, path, tested=None):
-    """Both directions per level (analysis.directions.with_codes): f_x1 and
-    f_x2 with their 95 % intervals and the codes beside them (left), mu
-    with Fieller's interval (right); a variant a marker each; the user's
-    wallette tests (analysis.directions.placed) as crosses."""
-    fig, (ax, axm) = plt.subplots(1, 2, figsize=(11, 4.2))
-    for direction, color, name in (("vertical", "tab:blue", "f_x1"), ("horizontal", "tab:red", "f_x2")):
-        t = tested[tested.direction == direction] if tested is not None and len(tested) else []
-        if len(t):
-            ax.plot(t[level.column], t.strength_mpa, "x", color=color, ms=8, label=f"your {name} tests")
-    for k, (variant, g) in enumerate(table.groupby("variant", sort=False)):
-        x = g[level.column].to_numpy(float)
-        for name, color in (("f_x2", "tab:red"), ("f_x1", "tab:blue")):
-            m = g[f"{name}_mpa"]
-            ax.errorbar(x, m, yerr=[m - g[f"{name}_low"], g[f"{name}_high"] - m], fmt="os^"[k % 3], color=color,
-                        capsize=3, label=f"{name} mean, 95 % interval ({variant})")
-        axm.errorbar(x, g.mu, yerr=[g.mu - g.mu_low, g.mu_high - g.mu], fmt="os^"[k % 3], color="k", capsize=3,
-                     label=f"mu = f_x1 / f_x2 ({variant})")
-        if k == 0:
-            ax.plot(x, g.en_fxk1_app_mpa, ":", color="tab:blue", label="EN 1996-1-1 f_xk1 + sigma_d")
-            ax.plot(x, g.en_fxk2_mpa, ":", color="tab:red", label="EN 1996-1-1 f_xk2")
-            ax.plot(x, g.as3700_vertical_mpa, "--", color="tab:blue", label="AS 3700 vertical (mean values)")
-            ax.plot(x, g.as3700_horizontal_mpa, "--", color="tab:red", label="AS 3700 horizontal (mean values)")
-            axm.plot(x, g.en_fxk1_app_mpa / g.en_fxk2_mpa, ":", color="tab:gray",
-                     label="EN 1996-1-1 (f_xk1 + sigma_d) / f_xk2")
-    for a, ylabel in ((ax, "flexural strength (MPa)"), (axm, "orthogonal ratio mu")):
-        a.set_xlabel(_axis(level))
-        a.set_ylabel(ylabel)
-        a.grid(alpha=0.3)
-        a.legend(fontsize=8)
-    _save(fig, path)
