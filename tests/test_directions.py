@@ -119,3 +119,52 @@ def test_the_rank_count_distribution_is_mann_whitneys(n, m):
     d = u_distribution(n, m)
     assert min(1.0, 2 * min(d[:u + 1].sum(), d[u:].sum())) == pytest.approx(
         stats.mannwhitneyu(x, y, method="exact").pvalue, rel=1e-9)
+
+
+# --- a study in both directions: its file's directions ---------------------------------------
+def _lab_study(tmp_path, **change):
+    """config/studies/waal_lab.yaml with ``change`` (top-level keys) in a
+    temporary file (its lab sheets' paths kept: they are read from the
+    working directory)."""
+    import yaml
+    raw = yaml.safe_load(open("config/studies/waal_lab.yaml"))
+    for name, per in (("bond", "joint"), ("mor", "unit"), ("E_unit", "unit")):   # so that items may be drawn
+        raw["variables"][name]["per"] = per
+    raw.update(change)
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump(raw, sort_keys=False))
+    return str(path)
+
+
+def test_both_directions_draw_the_same_samples():
+    """The study in its other direction draws the same samples (the runs
+    pair sample by sample) on that direction's scene."""
+    from masonrydem.study.file import load_study
+    study = load_study("config/studies/waal_lab.yaml")
+    vertical = study.in_direction("vertical")
+    assert (study.direction, vertical.direction) == ("horizontal", "vertical")
+    assert vertical.scene == "config/scenes/waal_vertical.yaml"
+    for variant in study.variants:
+        assert study.draw(variant).table.equals(vertical.draw(variant).table)
+
+
+@pytest.mark.parametrize("change, field", [
+    (dict(directions={"vertical": "config/scenes/waal.yaml"}), "study.directions.vertical"),      # bends horizontally
+    (dict(directions={"horizontal": "config/scenes/waal.yaml"}), "study.directions.horizontal"),  # its own
+    (dict(directions={"vertical": "config/scenes/waal_vertical.yaml"},
+          variants={"per_wall": {"draw": "wallette"}, "per_item": {"draw": "items"}}), "study.variants.per_item.draw"),
+])
+def test_a_direction_the_study_cannot_pair_is_refused_naming_the_key(tmp_path, change, field):
+    from masonrydem.study.file import load_study
+    with pytest.raises(InputError) as e:
+        load_study(_lab_study(tmp_path, **change))
+    assert e.value.field == field, str(e.value)
+    assert ("cannot be paired" in e.value.reason) == field.endswith(".draw"), str(e.value)
+
+
+def test_a_workflow_direction_the_study_has_not_is_refused_naming_the_key():
+    from masonrydem.pipeline import plan
+    config = {"study": {"file": "config/studies/small.yaml", "direction": "vertical"}}
+    with pytest.raises(InputError) as e:
+        plan.study(config)
+    assert e.value.field == "study.direction" and "no specimen for vertical bending" in e.value.reason
