@@ -1,7 +1,8 @@
 """Every number the committed report prints, read back from the printed
 text and compared with the table it summarises.  The report's captions
-(results/report/*.rst, and each further study's under
-results/studies/*/report/), its landing pages (workflow.rst), its further
+(results/report/*.rst, each further study's under
+results/studies/*/report/, and a study's other bending direction's under
+results/studies/waal_lab/vertical/report/), its landing pages (workflow.rst), its further
 studies' pages and every printed equation (equations.csv's equation
 column, and in captions) are parsed line by line; each number is found in
 its source table (the CSV or Parquet tables under results/), or, where the
@@ -180,8 +181,19 @@ class Study:
     """A study's committed results: its tables (root/study), its report's
     captions (``report``), its study file (config/studies/<name>.yaml)."""
 
-    def __init__(self, name, root, report):
+    def __init__(self, name, root, report, file=None, direction=None):
         self.name, self.root, self.report = name, Path(root), Path(report)
+        self.file_name, self.direction = file or name, direction     # a study in its other bending direction
+
+    @property
+    def workflow(self):
+        """Its workflow config's name (config/studies/<name>_workflow.yaml)."""
+        return f"{self.file_name}_{self.direction}" if self.direction else self.name
+
+    @property
+    def scene(self):
+        """The scene file it ran: its study file's, or its direction's."""
+        return self.file["directions"][self.direction] if self.direction else self.file["scene"]
 
     def tab(self, name):
         return tab(self.root / "study" / f"{name}.csv")
@@ -202,7 +214,7 @@ class Study:
 
     @property
     def file(self):
-        return yml(f"config/studies/{self.name}.yaml")
+        return yml(f"config/studies/{self.file_name}.yaml")
 
     @property
     def variant(self):
@@ -215,7 +227,9 @@ class Study:
 
 STUDIES = {"willis": Study("willis", RESULTS, RESULTS / "report"),
            **{n: Study(n, RESULTS / "studies" / n, RESULTS / "studies" / n / "report")
-              for n in ("nf", "geometry", "waal", "waal_lab", "small")}}
+              for n in ("nf", "geometry", "waal", "waal_lab", "small")},
+           "waal_lab_vertical": Study("waal_lab", RESULTS / "studies/waal_lab/vertical",
+                                      RESULTS / "studies/waal_lab/vertical/report", direction="vertical")}
 TOP = STUDIES["willis"]
 
 
@@ -609,14 +623,17 @@ def c_design_comparison(ck, s):
     for lv, g in ns.groupby(s.level):
         recs.append(dict(at_level(design, design.df.columns[0], lv, rules), level=exact(lv),
                          mean=exact(g.strength_mpa.mean()), std=exact(g.strength_mpa.std(ddof=1))))
+    rules = ("AS3700 vertical {as3700_vertical} MPa" if "as3700_vertical" in design.df else
+             "Lourenco-Gaetani stepped {lg_stepped} / brick {lg_brick} MPa; AS3700 stepped {as3700_stepped} / line "
+             "{as3700_line} MPa")
     ck.lines("- {level} MPa: simulated **{mean} +- {std} MPa**, predicted **{prediction} +- {band_sd} MPa** at the "
-             "mean properties, **{mean_over_samples} MPa** on average over the samples; Lourenco-Gaetani stepped "
-             "{lg_stepped} / brick {lg_brick} MPa; AS3700 stepped {as3700_stepped} / line {as3700_line} MPa",
-             recs, ("level",))
+             "mean properties, **{mean_over_samples} MPa** on average over the samples; " + rules, recs, ("level",))
     low = eqs.rows(mode="lower of two")[0]
     ck.one("over the {n} sampled property sets", dict(n=count(runs["sample"].nunique())))
     ck.one("the equations leave ({resid} MPa:", dict(resid=eqs.iv(low, "residual_sd_mpa")))
     ck.one("the simulated strengths of the variant {variant:w} (mean", dict(variant=s.variant))
+    if "as3700_vertical" in design.df:      # the horizontal bounds below are not printed
+        return
     ck.one("tensile strength {f_tu:g} MPa,", dict(f_tu=2 * design.iv(0, "lg_brick")))
     m = ck.one("the joints' cohesion, {c:g} times their tensile bond, times l_o/h_b, with l_o = {l_o} mm the overlap "
                "of the modelled units and h_b = {h_b} mm", {})
@@ -743,14 +760,15 @@ def modelform_band(mode, sv):
 def c_workflow(ck, s):
     """The landing page: what was run, how, the key table, the paper."""
     runs, st = s.runs, s.tab("statistics")
-    geo = yml(s.file["scene"])["geometry"]
+    geo = yml(s.scene)["geometry"]
     ck.one("masonrydem: the study {name:w} =", dict(name=s.name))
     ck.one("**What it is.** {total} simulations of the wallette of the scene {scene:w} ({courses} courses of {per} "
            "units of {L:g} x {H:g} x {W:g} mm in running bond with {t:g} mm joints)",
-           dict(total=count(len(runs)), scene=Path(s.file["scene"]).stem, courses=count(geo["courses"]),
+           dict(total=count(len(runs)), scene=Path(s.scene).stem, courses=count(geo["courses"]),
                 per=count(geo["units_per_course"]), L=Iv(mm(geo["unit"]["length"])), H=Iv(mm(geo["unit"]["height"])),
                 W=Iv(mm(geo["unit"]["width"])), t=Iv(mm(geo["joint_thickness"]))))
-    if set(runs.units) != {geo["courses"] * geo["units_per_course"]}:
+    shifted = geo["courses"] // 2 if geo.get("ends") == "straight" else 0      # a bat more in each shifted course
+    if set(runs.units) != {geo["courses"] * geo["units_per_course"] + shifted}:
         ck.fail(f"the runs' units {set(runs.units)} are not the scene's courses x units per course")
     levels = sorted(runs[s.level].unique())
     m = ck.one("micro-models: {n_var} {v:w} x {n_samples} Latin Hypercube samples of its {n_inputs} random {i:w} "
@@ -1071,7 +1089,7 @@ def c_design(ck, s):
     model's means (the study file's provenance and variables), the draws
     and the partial factor (the workflow's design settings)."""
     t = tab(s.root / "design/design.csv")
-    cfg = yml(f"config/studies/{s.name}_workflow.yaml")["design"]
+    cfg = yml(f"config/studies/{s.workflow}_workflow.yaml")["design"]
     lab = [dict(name=n, n=count(v["provenance"]["n"]), quantity=v["provenance"]["lab"]["quantity"],
                 lab_mean=Iv(float(v["provenance"]["lab"]["mean"].split()[0])),
                 factor=Iv(v["provenance"]["conversion"]["factor"]), model_mean=Iv(float(v["mean"].split()[0])))
@@ -1083,11 +1101,37 @@ def c_design(ck, s):
     ck.one("finite number of runs: {n} draws of every lab fit's parameters", dict(n=count(cfg["draws"])))
     ck.one("Design values divide by gamma_M = {g:g} (", dict(g=Iv(cfg["gamma_M"])))
     recs = [dict(r, level=r[t.df.columns[0]]) for r in map(t.record, t.rows())]
+    rules = ("EN 1996-1-1 f_xk1 + sigma_d {f_xk1_app_mpa} MPa (design {f_xd1_app_mpa})[?; AS 3700 vertical "
+             "{as3700_vertical_mpa} MPa?]" if s.direction == "vertical" else
+             "EN 1996-1-1 f_xk2 {f_xk2_mpa} MPa (design {f_xd2_mpa})[?; AS 3700 stepped {as3700_stepped_mpa}, "
+             "line {as3700_line_mpa} MPa?]")
     ck.lines("- {level} MPa: f_xk {f_xk_mpa} MPa ({f_xk_lo_mpa} to {f_xk_hi_mpa}; lab only {lab_only_lo_mpa} to "
              "{lab_only_hi_mpa}, runs only {runs_only_lo_mpa} to {runs_only_hi_mpa}; {basis:w}, {runs} runs, ESS "
-             "{ess}, median over the draws {ess_median}), design f_xk / {gamma_M:g} = {f_xd_mpa} MPa; "
-             "EN 1996-1-1 f_xk2 {f_xk2_mpa} MPa (design {f_xd2_mpa})[?; AS 3700 stepped {as3700_stepped_mpa}, "
-             "line {as3700_line_mpa} MPa?]", recs, ("level",))
+             "{ess}, median over the draws {ess_median}), design f_xk / {gamma_M:g} = {f_xd_mpa} MPa; " + rules,
+             recs, ("level",))
+
+
+def c_directions(ck, s):
+    """Both directions (study/directions.csv): per level f_x1, f_x2 and mu
+    with their intervals, the pairs' correlation and the simulated-to-code
+    ratios; the pairs and runs counted; the user's wallette tests
+    (study/wallette_tests.csv) with their percentiles."""
+    t = s.tab("directions")
+    recs = [dict(r, level=r[t.df.columns[1]]) for r in map(t.record, t.rows())]
+    ck.lines("- {variant:w}, {level} MPa: f_x1 **{f_x1_mpa} MPa** ({f_x1_low} to {f_x1_high}), f_x2 **{f_x2_mpa} MPa** "
+             "({f_x2_low} to {f_x2_high}), mu **{mu}** ({mu_low} to {mu_high}; pairs' correlation {pair_correlation}); "
+             "characteristic f_x1 {f_x1_k_mpa} / EN f_xk1 + sigma_d {en_fxk1_app_mpa} = {f_x1_k_over_en}, f_x2 "
+             "{f_x2_k_mpa} / EN f_xk2 {en_fxk2_mpa} = {f_x2_k_over_en}; mean f_x1 / AS 3700 vertical "
+             "{as3700_vertical_mpa} = {f_x1_over_as3700}, mean f_x2 / AS 3700 horizontal {as3700_horizontal_mpa} = "
+             "{f_x2_over_as3700}", recs, ("variant", "level"))
+    other = parquet(s.root.parent / "study/runs.parquet")
+    ck.one("{pairs} pairs with both runs ok of {own} and {other} runs", dict(
+        pairs=count(int(t.df.pairs.max())), own=count(len(s.runs)), other=count(len(other))))
+    w = s.tab("wallette_tests")
+    ck.lines("- test row {row}, {direction:w}, {level} MPa: **{strength_mpa} MPa**, above {runs_below:g} of {runs} runs "
+             "(mean {simulated_mean_mpa} MPa): predicted percentile **{percentile} %**",
+             [dict(r, level=r["p_mpa"]) for r in (w.record(i, scale=dict(percentile=100)) for i in w.rows())],
+             ("row",))
 
 
 # --- the report's pages: HTML tables of the CSVs --------------------------------------------
@@ -1249,7 +1293,10 @@ CAPTIONS = {**{f"{n}/{c}": (s.report / f"{c}.rst", globals()[f"c_{c}"], s)
             **{f"willis/{c}": (TOP.report / f"{c}.rst", globals()[f"c_{c}"], TOP) for c in TOP_CAPTIONS},
             **{f"willis/further_study_{n}": (TOP.report / f"further_study_{n}.rst", c_further_study, STUDIES[n])
                for n in FURTHER},
-            "waal_lab/design": (STUDIES["waal_lab"].report / "design.rst", c_design, STUDIES["waal_lab"])}
+            **{f"{n}/design": (STUDIES[n].report / "design.rst", c_design, STUDIES[n])
+               for n in ("waal_lab", "waal_lab_vertical")},
+            "waal_lab_vertical/directions": (STUDIES["waal_lab_vertical"].report / "directions.rst", c_directions,
+                                             STUDIES["waal_lab_vertical"])}
 EQUATIONS = sorted(RESULTS.glob("**/study/equations.csv"))
 STUDY_PAGES = ("statistics", "increase", "correlations", "sampling_check", "sensitivity", "equations",
                "design_comparison", "characteristic", "paper_comparison")
@@ -1261,8 +1308,10 @@ TOP_PAGES = {"validation": "validation/summary.csv", "hard_cases": "stability/ha
 PAGES = {**{f"{n}/tables/{p}": (s.report / f"tables/{p}.html", [s.root / f"study/{p}.csv"])
             for n, s in STUDIES.items() for p in STUDY_PAGES if (s.report / f"tables/{p}.html").exists()},
          **{f"willis/tables/{p}": (TOP.report / f"tables/{p}.html", [RESULTS / c]) for p, c in TOP_PAGES.items()},
-         "waal_lab/tables/design": (STUDIES["waal_lab"].report / "tables/design.html",
-                                    [STUDIES["waal_lab"].root / "design/design.csv"]),
+         **{f"{n}/tables/design": (STUDIES[n].report / "tables/design.html", [STUDIES[n].root / "design/design.csv"])
+            for n in ("waal_lab", "waal_lab_vertical")},
+         "waal_lab_vertical/tables/directions": (STUDIES["waal_lab_vertical"].report / "tables/directions.html",
+                                                 [STUDIES["waal_lab_vertical"].root / "study/directions.csv"]),
          **{f"willis/studies/{n}": (TOP.report / f"studies/{n}.html",
                                     [STUDIES[n].root / "study/statistics.csv", STUDIES[n].root / "study/equations.csv"])
             for n in FURTHER}}
@@ -1295,7 +1344,7 @@ def test_a_study_names_its_precompression_once_by_its_own_name():
     beside it; a study that calls it sigma_v keeps sigma_v_mpa."""
     for s in STUDIES.values():
         assert s.level in s.runs and ("sigma_v_mpa" in s.runs) == (s.level == "sigma_v_mpa"), s.name
-    assert {n for n, s in STUDIES.items() if s.level == "p_mpa"} == {"waal", "waal_lab", "small"}
+    assert {n for n, s in STUDIES.items() if s.level == "p_mpa"} == {"waal", "waal_lab", "small", "waal_lab_vertical"}
 
 
 @pytest.mark.parametrize("name", sorted(CAPTIONS))
