@@ -92,8 +92,8 @@ def test_the_agreement_test_holds_its_size_and_finds_a_shifted_model():
         lv = rng.choice(levels, 5)
         x = rng.lognormal(np.log(0.4 + lv), 0.2)
         t = placed(_sheet(["vertical"] * 5, 1e6 * lv, 1e6 * x), runs, "p_mpa")
-        hits += agreement(t)[2] <= 0.05
-        found += agreement(placed(_sheet(["vertical"] * 5, 1e6 * lv, 1.3e6 * x), runs, "p_mpa"))[2] <= 0.05
+        hits += agreement(t, "p_mpa")[2] <= 0.05
+        found += agreement(placed(_sheet(["vertical"] * 5, 1e6 * lv, 1.3e6 * x), runs, "p_mpa"), "p_mpa")[2] <= 0.05
     assert hits / 2000 <= stats.binom.ppf(0.999, 2000, 0.05) / 2000, hits
     assert found / 2000 >= 0.5, found
 

@@ -36,7 +36,7 @@ if sm.input.wallettes:
     variant = study.regression_variant
     ok = {d: r[r.ok & (r.variant == variant)] for d, r in (("horizontal", horizontal), ("vertical", vertical))}
     tested = D.placed(sheet, ok, level.column)
-    words = RD.tests_words(tested, D.agreement(tested), sheet["name"], variant, level)
+    words = RD.tests_words(tested, D.agreement(tested, level.column), sheet["name"], variant, level)
 tested.to_csv(sm.output.tests, index=False, float_format="%.6g")
 print(tested.to_string())
 RD.figure(table, level, sm.output.figure, tested)

@@ -325,11 +325,12 @@ def lab_words(study):
     results of the lab's flexural bond strength, mean 0.3453 MPa x 0.6667
     (EN 1992-1-1:2004) = the model's mean 0.2302 MPa'."""
     from ..scene import shown
+    from .predict import cite
     out = []
     for name, r in study.provenance.items():
         unit, size, _ = shown(study.units[name])
         out.append(f"{name}, {r['n']} results of the lab's {r['lab']['quantity']}, mean {r['lab']['mean']} x "
-                   f"{r['conversion']['factor']:.4g} ({r['conversion']['source'].split(',')[0]}) = the model's mean "
+                   f"{r['conversion']['factor']:.4g} ({cite(r['conversion']['source'])}) = the model's mean "
                    f"{study.variable(name).mean / size:.4g} {unit}")
     return "; ".join(out)
 

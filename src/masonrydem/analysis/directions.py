@@ -15,6 +15,10 @@ import pandas as pd
 from scipy import stats
 
 from ..errors import InputError
+from . import fractiles
+from .design import FXK1_CLAY, FXK2_CLAY
+from .statistics import Level
+from .validation import as3700, as3700_vertical
 
 KEYS = ("variant", "sample")
 
@@ -93,10 +97,6 @@ def with_codes(table, runs, level_column, f_mt, f_ut, mortar):
     vertical and horizontal rules at mean values against each direction's
     mean; each as the simulated-to-code ratio.  ``runs``: direction ->
     its runs table (pairs only, as ``paired`` gives them: f_x1, f_x2)."""
-    from . import fractiles
-    from .design import FXK1_CLAY, FXK2_CLAY
-    from .statistics import Level
-    from .validation import as3700, as3700_vertical
     if mortar not in FXK1_CLAY:
         raise InputError("directions.mortar", f"{mortar!r} is not a mortar of EN 1996-1-1's tables; one of: "
                          f"{', '.join(FXK1_CLAY)}")
@@ -161,7 +161,7 @@ def u_distribution(n, m):
     return d / d.sum()
 
 
-def agreement(table):
+def agreement(table, level_column):
     """The tests' agreement with the prediction: under it each test is one
     more draw of its direction's and level's distribution.  Per direction
     and level the count of runs below the tests (ties half) is the
@@ -171,7 +171,7 @@ def agreement(table):
     distribution.  Returns (the sum, its mean under the prediction, the
     two-sided p-value: tests systematically above or below the runs)."""
     dist = np.array([1.0])
-    strata = table.groupby(["direction", table.columns[2]])
+    strata = table.groupby(["direction", level_column])
     for _, g in strata:
         dist = np.convolve(dist, u_distribution(len(g), int(g.runs.iloc[0])))
     u = float(table.runs_below.sum())

@@ -81,6 +81,12 @@ def lab_conversions(provenance):
                        source=r["conversion"]["source"]) for name, r in provenance.items()}
 
 
+def cite(source):
+    """A conversion's source as a short citation: its text before the first
+    comma ('EN 1992-1-1:2004')."""
+    return source.split(",")[0]
+
+
 def _as_lab(value, spec):
     """' (the lab's flexural bond strength 0.3453 MPa x 0.6667, EN ...)'
     for a lab-fitted input, else ''."""
@@ -88,7 +94,7 @@ def _as_lab(value, spec):
     if not lab:
         return ""
     return (f" (the lab's {lab['quantity']} {value / lab['factor']:.4g} {spec['shown']} x {lab['factor']:.4g}: "
-            f"{lab['source'].split(',')[0]})")
+            f"{cite(lab['source'])})")
 
 
 BRICK = ("geometry.unit.length", "geometry.unit.height", "geometry.unit.width", "geometry.joint_thickness")
@@ -271,7 +277,7 @@ def _lab_hint(name, x, spec):
     if not lab:
         return ""
     return (f"; {name} is the model's value, {lab['factor']:.4g} x the lab's {lab['quantity']} "
-            f"({lab['source'].split(',')[0]}): a lab value of {x:.4g} {spec['shown']} is {name} = "
+            f"({cite(lab['source'])}): a lab value of {x:.4g} {spec['shown']} is {name} = "
             f"{x * lab['factor']:.4g} {spec['shown']}")
 
 
