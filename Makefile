@@ -99,8 +99,7 @@ bench-reduced: $(STAMP)
 # value, the validation tables, captions, the landing page), each run
 # against the tests that guard its module: every one must be caught; a
 # fault whose text no longer matches fails the tool, and
-# tests/test_mutants.py in `make test` (benchmarks/mutants.py; its time:
-# CHANGELOG.md)
+# tests/test_mutants.py in `make test` (benchmarks/mutants.py)
 mutants: $(STAMP)
 	$(BIN)/python benchmarks/mutants.py
 

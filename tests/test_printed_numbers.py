@@ -761,8 +761,10 @@ def c_workflow(ck, s):
     """The landing page: what was run, how, the key table, the paper."""
     runs, st = s.runs, s.tab("statistics")
     geo = yml(s.scene)["geometry"]
-    ck.one("masonrydem: the study {name:w} =", dict(name=s.name))
-    ck.one("**What it is.** {total} simulations of the wallette of the scene {scene:w} ({courses} courses of {per} "
+    ck.one("masonrydem: the {name:w} study, a wallette in {direction:w} bending =",
+           dict(name=s.name, direction=s.direction or "horizontal"))
+    c_landing_in_short(ck, s)
+    ck.one("**What was run.** {total} simulations of the wallette of the scene {scene:w} ({courses} courses of {per} "
            "units of {L:g} x {H:g} x {W:g} mm in running bond with {t:g} mm joints)",
            dict(total=count(len(runs)), scene=Path(s.scene).stem, courses=count(geo["courses"]),
                 per=count(geo["units_per_course"]), L=Iv(mm(geo["unit"]["length"])), H=Iv(mm(geo["unit"]["height"])),
@@ -794,11 +796,42 @@ def c_workflow(ck, s):
                                                       unit="hours" if hours else "minutes"))
     ck.lines("{variant:w} {level} {P_max_mean_kN} {strength_mean_mpa} {P_max_cov} {brick_share} {count}",
              level_records(s, st, st.rows(mode="all"), dict(brick_share=100)), ("variant", "level"),
-             within=("**What it found.**", "**Against the source paper.**"))
+             within=("**The key table.**", "**The paper side by side.**"))
     if (s.root / "study/paper_comparison.csv").exists():
         c_landing_paper(ck, s)
     else:
-        ck.one("**Against the source paper.** No source paper is compared", {})
+        ck.one("**Against the source paper.** No source paper is compared.", {})
+        ck.one("**The paper side by side.** No source paper is compared", {})
+
+
+def c_landing_in_short(ck, s):
+    """The landing page's finding in one sentence: the study file's first
+    variant at its lowest and highest level (all modes), and the paper's
+    comparison in one: the all-modes means' offset, and the means and COVs
+    inside our intervals."""
+    st = s.tab("statistics")
+    variant = next(iter(s.file["variants"]))
+    idx = sorted(st.rows(mode="all", variant=variant), key=lambda i: st.df[s.level][i])
+    lo, hi = st.record(idx[0], scale=dict(brick_share=100)), st.record(idx[-1], scale=dict(brick_share=100))
+    if len(idx) > 1:
+        ck.one("**What it found.** From {a:g} {unit:w} to {b:g} {unit2:w} of {name:w} the mean P_max goes from {m0} "
+               "to {m1} kN "
+               "({pct} %), its COV from {c0} to {c1}, and the share of runs failing through the units from {b0} "
+               "to {b1} % (variant {v:w}).",
+               dict(a=lo[s.level], b=hi[s.level], m0=lo["P_max_mean_kN"], m1=hi["P_max_mean_kN"],
+                    pct=(hi["P_max_mean_kN"] / lo["P_max_mean_kN"] - 1) * 100, c0=lo["P_max_cov"],
+                    c1=hi["P_max_cov"], b0=lo["brick_share"], b1=hi["brick_share"], v=variant))
+    if (s.root / "study/paper_comparison.csv").exists():
+        card = s.tab("paper_comparison")
+        means, cov = card.rows(item="F_max mean (kN)"), card.rows(item="F_max COV")
+        alls = card.rows(item="F_max mean (kN)", mode="all")
+        ck.one("**Against the source paper.** Our mean P_max of all failure modes stands {d0} to {d1} % from the "
+               "paper's at its {n} levels; the paper's means lie inside our 95 % intervals for {k} of {nm} failure "
+               "modes and levels, its COVs for {kc} of {nc}.",
+               dict(d0=smallest([card.iv(i, "difference_pct") for i in alls]),
+                    d1=largest([card.iv(i, "difference_pct") for i in alls]), n=count(len(alls)),
+                    k=count(sum(truth(card.df.paper_inside[i]) for i in means)), nm=count(len(means)),
+                    kc=count(sum(truth(card.df.paper_inside[i]) for i in cov)), nc=count(len(cov))))
 
 
 def c_landing_paper(ck, s):
@@ -1176,11 +1209,17 @@ def page_rows(table):
 CELL = re.compile(rf"(?P<x>{NUM})(?: \((?P<lo>{NUM}) to (?P<hi>{NUM})\))?")
 
 
+# a relative error or difference: a page shows it in % (100 times the CSV's fraction)
+PERCENT = re.compile(r"(^|_)(error|diff)$")
+
+
 def _fits(s, t, i, col):
-    """agrees(s, t.iv(i, col)), without building the interval."""
+    """agrees(s, t.iv(i, col)), without building the interval (a relative
+    error or difference: 100 times the interval)."""
     p, h = printed(s)
     j = t.col[col]
-    lo, hi = t.lo[i, j], t.hi[i, j]
+    scale = 100 if PERCENT.search(col.removesuffix("_lo").removesuffix("_hi")) else 1
+    lo, hi = scale * t.lo[i, j], scale * t.hi[i, j]
     if math.isnan(p) or math.isnan(lo):
         return math.isnan(p) and math.isnan(lo)
     tol = 1e-12 * max(1.0, abs(p))

@@ -98,6 +98,44 @@ window.addEventListener("load", () => setTimeout(() => { VIEW }, 1500));
 """
 
 
+FIGURES = """
+<script>
+const wait = ms => new Promise(r => setTimeout(r, ms));
+async function probe() {
+  for (let i = 0; i < 60 && !document.querySelector(".prose"); i++) await wait(250);
+  const out = {};
+  for (const [cat, subs] of Object.entries(categories)) {
+    for (const [sub, keys] of Object.entries(subs)) {
+      for (const key of keys) {
+        if (results[key].mime_type !== "image/png") continue;
+        // as a reader opens it: the category's list in the navigation, the figure beside it
+        app.setView({navbarMode: "subcategory", category: cat, subcategory: sub, content: "img",
+                     contentPath: results[key].data_uri, resultPath: key});
+        let img = null;
+        for (let i = 0; i < 50; i++) {
+          await wait(100);
+          img = [...document.querySelectorAll("img")].find(x => x.getAttribute("src") === results[key].data_uri);
+          if (img && img.complete && img.naturalWidth) break;
+        }
+        await wait(100);
+        out[key] = img ? {shown: img.getBoundingClientRect().width, natural: img.naturalWidth,
+                          nav: (document.querySelector("nav") || {getBoundingClientRect: () => ({width: 0})})
+                               .getBoundingClientRect().width} : null;
+      }
+    }
+  }
+  const pre = document.createElement("pre");
+  pre.id = "probe";
+  pre.textContent = JSON.stringify(out);
+  document.body.appendChild(pre);
+}
+window.addEventListener("load", probe);
+</script>
+"""
+# the smallest text a figure may show, in the screen's pixels at 1280 x 800
+SMALLEST_PX = 9
+
+
 def _chromium(page, size, *args):
     cmd = [BROWSER, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
            f"--window-size={size[0]},{size[1]}", "--virtual-time-budget=30000", *args, page.as_uri()]
@@ -223,3 +261,30 @@ def test_the_tables_show_every_row_of_their_csv_within_the_window(report, name):
     right = float(re.search(r'<pre id="probe">(.*?)</pre>', dom, re.S)[1])
     # the window's width (the report's navigation beside it can be hidden)
     assert right <= SIZES[0][0] or name == "hard_cases", right
+
+
+def test_every_figure_s_smallest_text_reads_at_9_pixels_as_shown(report):
+    """Each figure of the report opened as a reader opens it (its
+    category's list in the navigation beside it) at 1280 x 800: the height
+    of its smallest text, as its PNG states it (analysis.plots; the 3-D
+    pictures' VTK font size), times the scale the report shows it at, is
+    9 pixels or more.  A figure that states no size fails too."""
+    from masonrydem.analysis.plots import smallest
+    probed = _with(report, "probed_figures.html", FIGURES)
+    dom = _chromium(probed, SIZES[0], "--dump-dom").stdout
+    found = re.search(r'<pre id="probe">(.*?)</pre>', dom, re.S)
+    assert found, "the probe did not run"
+    shown = json.loads(found[1].replace("&quot;", '"').replace("&amp;", "&"))
+    results = json.loads(re.search(r"var results = (\{.*?\});\n", report.read_text(), re.S)[1])
+    pngs = [k for k, r in results.items() if r["mime_type"] == "image/png"]
+    assert sorted(shown) == sorted(pngs)
+    small = {}
+    for key in pngs:
+        s = shown[key]
+        assert s and s["natural"], (key, s)
+        px = smallest(report.parent / results[key]["data_uri"])
+        on_screen = (px or 0) * s["shown"] / s["natural"]
+        if on_screen < SMALLEST_PX:
+            small[key] = (px, round(s["shown"]), s["natural"], round(on_screen, 1))
+    assert not small, "figures whose smallest text reads below 9 px (stated px, shown width, PNG width, " \
+                      "px on screen): " + json.dumps(small, indent=1)

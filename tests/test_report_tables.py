@@ -22,7 +22,7 @@ def test_a_value_and_its_interval_share_one_cell_and_keys_come_first():
     r = tables.readable(t)
     assert list(r.columns)[0] == "mode" and r.shape == (2, 2)
     cell = r.iloc[0, 1]
-    assert cell.index("1.235") < cell.index("1 to") < cell.index("1.5")     # rounded, then lo to hi
+    assert cell == "1.235 (1.000 to 1.500)"     # rounded to one precision, then lo to hi
 
 
 def test_a_wide_short_table_is_transposed_and_keeps_every_row():
@@ -96,3 +96,47 @@ def table_shape(html):
     p.rows = []
     p.feed(html)
     return len(p.rows), p.rows[0] if p.rows else 0
+
+
+def _committed_report():
+    """The committed report's results and its categories, read from the
+    JSON its page carries (results/report.zip)."""
+    import json
+    import re
+    import zipfile
+    from pathlib import Path
+    with zipfile.ZipFile(Path(__file__).resolve().parents[1] / "results/report.zip") as z:
+        page = z.read("report/report.html").decode()
+    return [json.loads(re.search(rf"var {name} = (\{{.*?\}});\n", page, re.S)[1]) for name in ("results", "categories")]
+
+
+def test_every_result_of_the_committed_report_is_listed_once_by_a_label_of_its_own():
+    """Snakemake's report lists a category's results by their labels, one
+    per label: two results of one label in a category leave one of them
+    unreachable (and search finds it by the same lookup).  So each
+    (category, subcategory) holds distinct labels, and the results listed
+    are the results the report carries."""
+    results, categories = _committed_report()
+    listed = [(cat, sub, key) for cat, subs in categories.items() for sub, keys in subs.items() for key in keys]
+    assert sorted(k for *_, k in listed) == sorted(results)
+    seen = {}
+    for cat, sub, key in listed:
+        label = tuple(sorted(results[key]["labels"].items()))
+        assert (cat, sub, label) not in seen, (cat, sub, label, key, seen.get((cat, sub, label)))
+        seen[(cat, sub, label)] = key
+
+
+def test_a_column_shows_its_numbers_to_one_precision_and_an_error_in_percent():
+    """Every number of a column to the same decimals (4 significant digits
+    of its largest value, at least 2 of its smallest), a relative error (a fraction
+    in the CSV) in % with its interval, and a page of correlations without
+    its inputs' units."""
+    t = pd.DataFrame(dict(case=["a", "b"], difference_pct=[3.229, -25.0], max_abs_error=[0.01649, 0.0042],
+                          mean_diff=[-0.001459, 0.0004], mean_diff_lo=[-0.002, -0.001], mean_diff_hi=[0.0, 0.002]))
+    r = tables.readable(t)
+    assert list(r["difference (%)"]) == ["3.23", "-25.00"]
+    assert list(r["max abs error (%)"]) == ["1.649", "0.420"]
+    assert list(r["mean diff (%), 95 % interval"]) == ["-0.1459 (-0.2000 to 0.0000)", "0.0400 (-0.1000 to 0.2000)"]
+    corr = pd.DataFrame(dict(variant=["v"], f_tj_mpa=[0.92], phi_j_deg=[-0.05]))
+    assert list(tables.readable(corr, units=False).columns) == ["variant", "f<sub>tj</sub>", "φ<sub>j</sub>"]
+    assert "f<sub>tj</sub> (MPa)" in tables.readable(corr).columns

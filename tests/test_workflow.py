@@ -574,7 +574,7 @@ def test_a_further_study_gets_a_report_page_that_states_its_numbers(tmp_path):
     eq.to_csv(demo / "study" / "equations.csv", index=False)
     extra = tmp_path / "extra.yaml"
     extra.write_text(yaml.safe_dump({"further_studies": {"demo": {
-        "title": "demo", "results": str(demo), "workflow": "config/studies/nf_workflow.yaml"}}}))
+        "title": "demo", "short": "demo", "results": str(demo), "workflow": "config/studies/nf_workflow.yaml"}}}))
     r = subprocess.run(SNAKEMAKE + [f"{tmp_path}/report/studies/demo.html", "--cores", "1", "--configfile",
                                     "config/config.yaml", str(extra), "--config", f"results={tmp_path}"],
                        capture_output=True, text=True)

@@ -155,7 +155,8 @@ for stage in dict.fromkeys(p[4] for p in PAGES.values()):
         input:
             **{n: p[0] for n, p in PAGES.items() if p[4] == stage},
         output:
-            **{n: item(f"{R}/report/tables/{n}.html", p[3], p[2], p[1]) for n, p in PAGES.items() if p[4] == stage},
+            **{n: item(f"{R}/report/tables/{n}.html", p[3], p[2], f"{p[1]}: table") for n, p in PAGES.items()
+               if p[4] == stage},
         params:
             code=get_code("tables"),
             titles={n: p[1] for n, p in PAGES.items() if p[4] == stage},
@@ -175,10 +176,10 @@ rule further_studies:
         template=get_template("further_study"),
         # each study's figures and pictures, with the captions its own workflow wrote
         figures=[item(path, os.path.abspath(f"{s['results']}/report/{caption}.rst"), "Further studies", label,
-                      s["title"]) for s in FURTHER.values() for path, caption, label in get_further_figures(s)],
+                      s["short"]) for s in FURTHER.values() for path, caption, label in get_further_figures(s)],
     output:
         **{f"{n}_page": item(f"{R}/report/studies/{n}.html", f"further_study_{n}", "Further studies",
-                             "Statistics and equations", s["title"]) for n, s in FURTHER.items()},
+                             "Statistics and equations", s["short"]) for n, s in FURTHER.items()},
         **{f"{n}_caption": get_caption_file(f"further_study_{n}") for n in FURTHER},
     params:
         studies=FURTHER,

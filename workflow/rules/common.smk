@@ -327,7 +327,7 @@ def get_further_figures(study):
     folder = Path(study["results"], "study")
     found = [(f"{folder}/{f}.png", c, label) for f, (c, label) in FURTHER_FIGURES.items()
              if (folder / f"{f}.png").is_file()]
-    return found + [(p.as_posix(), "study_pictures", f"3-D picture: {p.stem.replace('_', ' variant, ')} failure")
+    return found + [(p.as_posix(), "study_pictures", "3-D picture: {} variant, {} failure".format(*p.stem.rsplit("_", 1)))
                     for p in sorted((folder / "pictures").glob("*.png"))]
 
 

@@ -16,8 +16,9 @@ if config.get("design"):
             lab=[r["data"] for r in plan.study(config).provenance.values()],
             template=get_template("design"),
         output:
-            table=report(f"{R}/design/design.csv", caption=get_caption("design"), category="Design value"),
-            page=report(f"{R}/report/tables/design.html", caption=get_caption("design"), category="Design value"),
+            table=f"{R}/design/design.csv",
+            page=item(f"{R}/report/tables/design.html", "design", "Design value",
+                      "Characteristic and design values: table"),
             caption=get_caption_file("design"),
         params:
             code=get_code("design"),

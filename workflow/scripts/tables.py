@@ -12,5 +12,6 @@ from masonrydem.report import tables  # noqa: E402
 
 for name, title in sm.params.titles.items():
     table = pd.read_csv(sm.input[name])
-    Path(sm.output[name]).write_text(tables.html_table(table, title))
+    # the correlations' columns are named after the inputs, in their units
+    Path(sm.output[name]).write_text(tables.html_table(table, title, units=name != "correlations"))
     print(name, table.shape)

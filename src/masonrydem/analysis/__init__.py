@@ -10,5 +10,5 @@ its swept setting, its terms) as arguments."""
 
 # its modules, each imported on its own: a caller of one loads no other's
 # libraries (scikit-learn, matplotlib, pyvista)
-__all__ = ["accuracy", "brick_formats", "design", "equations", "fractiles", "labfit", "labsheet", "needs", "predict",
-           "sensitivity", "sobol_check", "statistics", "validation"]
+__all__ = ["accuracy", "brick_formats", "design", "equations", "fractiles", "labfit", "labsheet", "needs", "plots",
+           "predict", "sensitivity", "sobol_check", "statistics", "validation"]

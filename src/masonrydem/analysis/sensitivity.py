@@ -60,6 +60,7 @@ from scipy import stats
 
 from ..study.copula import CLIP, CopulaMap
 from .needs import MIN_RUNS
+from .plots import save_figure
 
 N_BASE = 2 ** 12
 DRAWS = 200
@@ -280,36 +281,44 @@ def no_indices(table):
 
 def figure(table, path, level):
     """S1 and ST with their intervals against the level, one panel per
-    mode, beside the squared Pearson correlations (dashed), the variant
-    with indices."""
+    mode, stacked, beside the squared Pearson correlations (dashed), the
+    variant with indices; the inputs told apart by colour and the three
+    measures by line, in a legend below the panels."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
     has = table.dropna(subset=["ST"])
     modes = [m for m in ("all", "joint", "brick") if m in set(has["mode"])]
-    fig, axes = plt.subplots(1, max(len(modes), 1), figsize=(5 * max(len(modes), 1), 4), sharey=True, squeeze=False)
-    for ax, mode in zip(axes[0], modes):
+    n = max(len(modes), 1)
+    fig, axes = plt.subplots(n, 1, figsize=(7, 2.9 * n + 1.1), sharex=True, squeeze=False)
+    inputs = list(dict.fromkeys(has["input"]))
+    for ax, mode in zip(axes[:, 0], modes):
         g = has[has["mode"] == mode]
-        for k, (name, h) in enumerate(g.groupby("input", sort=False)):
-            color = f"C{k}"
+        for name, h in g.groupby("input", sort=False):
+            color = f"C{inputs.index(name)}"
             x = h[level.column]
             # an interval of the draws need not hold the posterior mean's index: bars from the estimate, clipped
             bars = np.clip([h.ST - h.ST_lo, h.ST_hi - h.ST], 0, None)
-            sym = _symbol(name)
-            ax.errorbar(x, h.ST, yerr=bars, fmt="o-", color=color, capsize=3, label=f"{sym}: total index $S_T$")
-            ax.plot(x, h.S1, "s:", color=color, ms=4, label=f"{sym}: first-order index $S_1$")
-            ax.plot(x, h.pearson_sq, "--", color=color, lw=0.8, alpha=0.7, label=f"{sym}: squared Pearson $r^2$")
+            ax.errorbar(x, h.ST, yerr=bars, fmt="o-", color=color, capsize=3)
+            ax.plot(x, h.S1, "s:", color=color, ms=4)
+            ax.plot(x, h.pearson_sq, "--", color=color, lw=0.8, alpha=0.7)
         ax.set_title(f"{', '.join(sorted(g.variant.unique()))} variant, {mode} failure modes"
-                     if mode == "all" else f"{', '.join(sorted(g.variant.unique()))} variant, {mode} failures")
-        ax.set_xlabel(f"{_symbol(level.name)} ({level.unit})" if level.unit else _symbol(level.name))
+                     if mode == "all" else f"{', '.join(sorted(g.variant.unique()))} variant, {mode} failures",
+                     fontsize=10)
+        ax.set_ylabel("index, r²")
         ax.set_ylim(-0.02, 1.02)
         ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel("Sobol index, squared Pearson r")
-    # the legend beside the panels, never over the data
-    fig.legend(*axes[0][0].get_legend_handles_labels(), fontsize=8, loc="center left", bbox_to_anchor=(1.0, 0.5))
-    fig.tight_layout()
-    fig.savefig(path, dpi=120, bbox_inches="tight")
-    plt.close(fig)
+        ax.tick_params(labelbottom=True)
+    axes[-1, 0].set_xlabel(f"{_symbol(level.name)} ({level.unit})" if level.unit else _symbol(level.name))
+    # the legend below the panels, never over the data: the inputs by colour, the measures by line
+    handles = [Line2D([], [], color=f"C{k}", lw=6) for k in range(len(inputs))] + \
+        [Line2D([], [], color="0.3", marker="o", ls="-"), Line2D([], [], color="0.3", marker="s", ls=":", ms=4),
+         Line2D([], [], color="0.3", ls="--", lw=0.8)]
+    labels = [_symbol(x) for x in inputs] + ["total index $S_T$", "first-order index $S_1$", "squared Pearson $r^2$"]
+    fig.tight_layout(rect=(0, 0.7 / fig.get_figheight(), 1, 1))
+    fig.legend(handles, labels, fontsize=9, loc="lower center", ncol=min(len(labels), 4), frameon=False)
+    save_figure(fig, path, dpi=120)
 
 
 def _symbol(name):

@@ -5,6 +5,7 @@ import numpy as np
 import pandas as pd
 
 from . import equations as E
+from .plots import save_figure
 from . import statistics as A
 
 
@@ -46,7 +47,7 @@ def figure(table, curves, path):
     says so."""
     import matplotlib.pyplot as plt
     levels = sorted(table.sigma_v_mpa.unique())
-    fig, axes = plt.subplots(1, len(levels), figsize=(6 * len(levels), 4.5), squeeze=False)
+    fig, axes = plt.subplots(1, len(levels), figsize=(5 * len(levels), 4.5), squeeze=False)
     style = {"reference": dict(color="0.65", lw=4.5, zorder=1),
              "half_rate": dict(color="tab:blue", ls=(0, (4, 2)), lw=1.5, zorder=3),
              "strong_joints": dict(color="tab:red", lw=1.5, zorder=2)}
@@ -61,10 +62,9 @@ def figure(table, curves, path):
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8, loc="lower right")
         ax.text(0.98, 0.26, "no measured curve: none is available\nfor this wallette (docs/study.md, 5)",
-                transform=ax.transAxes, ha="right", va="bottom", fontsize=7.5, color="0.35")
+                transform=ax.transAxes, ha="right", va="bottom", fontsize=8.5, color="0.35")
     fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
+    save_figure(fig, path, dpi=130)
 
 
 def hard_cases_table(results, expect):
@@ -174,8 +174,7 @@ def specimen_figure(table, curves, path):
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
+    save_figure(fig, path, dpi=130)
 
 
 # --- design rules (docs/study.md, 14) -------------------------------------------------

@@ -9,6 +9,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from ..analysis import statistics as A  # noqa: E402
+from ..analysis.plots import save_figure  # noqa: E402
 
 MODES = {"joint": "tab:blue", "brick": "tab:red"}
 # pixels of the 3-D pictures (masonrydem.report.pictures) that go into the report: at
@@ -39,8 +40,7 @@ def axis_label(level):
 
 def save(fig, path):
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
 
 
 def running_mean(runs, path, level):
@@ -215,7 +215,7 @@ def design_comparison(design, simulated, path, variant, level, fitted):
 
 
 def accuracy_pareto(table, conv, choice, tolerance, path):
-    """Per case (a panel each, three to a row, the legend in a panel of its
+    """Per case (a panel each, two to a row, the legend in a panel of its
     own): |error| of P_max against run time for every setting; the
     candidates coloured by block model, the refinement path black, the
     one-at-a-time variations grey; the Pareto front, the tolerance, the knee
@@ -223,8 +223,8 @@ def accuracy_pareto(table, conv, choice, tolerance, path):
     names every point), where the front has moved on by a factor 1.6 in run
     time."""
     cases = list(conv.case)
-    rows = -(-(len(cases) + 1) // 3)
-    fig, axes = plt.subplots(rows, 3, figsize=(13, 4.1 * rows), squeeze=False)
+    rows = -(-(len(cases) + 1) // 2)
+    fig, axes = plt.subplots(rows, 2, figsize=(10, 4.1 * rows), squeeze=False)
     knee = choice.loc[choice.knee, "setting"]
     knee = knee.iloc[0] if len(knee) else None
     handles = {}
@@ -245,7 +245,7 @@ def _pareto_panel(ax, runs, ref, knee, tolerance):
     from ..analysis.accuracy import pareto_front
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     c = runs[runs.ok].copy()
-    c["abs_err"] = 100 * c.error.abs().clip(lower=1e-3)
+    c["abs_err"] = 100 * c.error.abs().clip(lower=1e-5)      # the reference itself (error 0) on the floor
     groups = [(f"candidates: {m}", g) for m, g in c[c.kind == "candidate"].groupby("blocks")]
     for k, (label, g) in enumerate(groups + [("refinement path", c[c.kind == "path"])]):
         ax.scatter(g.wall_time_s, g.abs_err, color=colors[k] if label != "refinement path" else "k", label=label,
@@ -255,10 +255,12 @@ def _pareto_panel(ax, runs, ref, knee, tolerance):
     front = c.iloc[pareto_front(c.wall_time_s, c.abs_err)]
     ax.step(front.wall_time_s, front.abs_err, where="post", color="k", lw=0.8, label="Pareto front")
     last = 0.0
+    middle = np.sqrt(c.wall_time_s.min() * c.wall_time_s.max()) if len(c) else 1.0
     for k, (_, row) in enumerate(front.iterrows()):
         if row.wall_time_s >= 1.6 * last:       # a name where the front has moved on (no pile-up)
-            ax.annotate(row.setting, (row.wall_time_s, row.abs_err), fontsize=7, xytext=(4, -9 if k % 2 else 3),
-                        textcoords="offset points")
+            right = row.wall_time_s > middle        # named towards the panel's middle, inside it
+            ax.annotate(row.setting, (row.wall_time_s, row.abs_err), fontsize=8, xytext=(-4 if right else 4, -10 if
+                        k % 2 else 3), textcoords="offset points", ha=("left", "right")[right], annotation_clip=True)
             last = row.wall_time_s
     bad = c[~c.mode_ok]
     ax.scatter(bad.wall_time_s, bad.abs_err, facecolor="none", edgecolor="r", s=90, label="wrong failure mode")
@@ -340,8 +342,7 @@ def placeholder(text, path):
     fig, ax = plt.subplots(figsize=(8, 2))
     ax.axis("off")
     ax.text(0.5, 0.5, textwrap.fill(text, 90), ha="center", va="center")
-    fig.savefig(path)
-    plt.close(fig)
+    save_figure(fig, path, dpi=100)
 
 
 def paper_comparison(card, path):
@@ -362,7 +363,7 @@ def paper_comparison(card, path):
 
 
 def tornado(table, path, titles=None):
-    """The model-form study: per case (rows) and level (columns), each
+    """The model-form study: per case (columns) and level (rows), each
     assumption's options as bars of the change of P_max (%), each named at
     its end, the assumptions sorted by their largest change; an option that
     changed the failure mode hatched.  ``titles``: an assumption's name ->
@@ -371,9 +372,9 @@ def tornado(table, path, titles=None):
     t = table[table.assumption != "baseline"]
     order = t.groupby("assumption").change_pct.apply(lambda c: c.abs().max()).sort_values().index
     cases, levels = list(dict.fromkeys(t["case"])), sorted(t.sigma_v_mpa.unique())
-    fig, axes = plt.subplots(len(cases), len(levels), figsize=(5 * len(levels), 0.5 * len(order) * len(cases) + 2),
+    fig, axes = plt.subplots(len(levels), len(cases), figsize=(5 * len(cases) + 1.5, len(order) * len(levels) / 2 + 2),
                              sharey=True, sharex=True, squeeze=False)
-    for (i, case), (j, sv) in itertools.product(enumerate(cases), enumerate(levels)):
+    for (j, case), (i, sv) in itertools.product(enumerate(cases), enumerate(levels)):
         ax, g = axes[i, j], t[(t["case"] == case) & (t.sigma_v_mpa == sv)]
         for y, name in enumerate(order):
             opts = g[g.assumption == name]
@@ -381,13 +382,13 @@ def tornado(table, path, titles=None):
                 yy = y + (k - (len(opts) - 1) / 2) * 0.4
                 ax.barh(yy, r.change_pct, height=0.38, color="tab:red" if r.change_pct > 0 else "tab:blue",
                         hatch="//" if r.mode_changed else None, edgecolor="k", lw=0.3)
-                ax.text(r.change_pct + (1 if r.change_pct >= 0 else -1), yy, r.option, fontsize=6, va="center",
+                ax.text(r.change_pct + (1 if r.change_pct >= 0 else -1), yy, r.option, fontsize=9, va="center",
                         ha="left" if r.change_pct >= 0 else "right")
         ax.axvline(0, color="k", lw=0.8)
-        ax.set_yticks(range(len(order)), [(titles or {}).get(n, n.replace("_", " ")) for n in order], fontsize=8)
-        ax.set_title(f"{case} failure case, " + r"$\sigma_v$" + f" = {sv:g} MPa", fontsize=9)
+        ax.set_yticks(range(len(order)), [(titles or {}).get(n, n.replace("_", " ")) for n in order], fontsize=9)
+        ax.set_title(f"{case} failure case, " + r"$\sigma_v$" + f" = {sv:g} MPa", fontsize=10)
         ax.grid(axis="x", alpha=0.3)
-    for ax in axes[-1]:
+        ax.tick_params(labelbottom=True)          # every panel its scale
         ax.set_xlabel(r"change of $P_{max}$ against the baseline (%)")
     lo, hi = t.change_pct.min(), t.change_pct.max()
     axes[0, 0].set_xlim(lo - 0.45 * (hi - lo), hi + 0.45 * (hi - lo))     # room for the options' names
@@ -395,6 +396,5 @@ def tornado(table, path, titles=None):
                         Patch(facecolor="w", edgecolor="k", hatch="//", label="failure mode changed")],
                loc="upper center", ncol=3, frameon=False, bbox_to_anchor=(0.5, 1.0))
     fig.tight_layout(rect=(0, 0, 1, 1 - 0.5 / fig.get_figheight()))
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    save_figure(fig, path, dpi=100)
 

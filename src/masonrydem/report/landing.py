@@ -74,6 +74,37 @@ def paper_findings(card, band):
     return "".join(text) + "\n\n" + _rst_table(head, rows)
 
 
+def in_short(stats, level):
+    """The landing page's finding in one sentence: the first variant's mean
+    P_max, COV and share of brick failures at its lowest and highest
+    level (all failure modes together)."""
+    s = stats[(stats["mode"] == "all") & (stats.variant == stats.variant.iloc[0])].sort_values(level.column)
+    lo, hi = s.iloc[0], s.iloc[-1]
+    at = lambda r: f"{r[level.column]:g} {level.unit}".rstrip()  # noqa: E731
+    if len(s) == 1:
+        return (f"The mean P_max is {lo.P_max_mean_kN:.2f} kN with a COV of {lo.P_max_cov:.2f}, "
+                f"{100 * lo.brick_share:.0f} % of the runs failing through the units (variant {lo.variant}).")
+    change = 100 * (hi.P_max_mean_kN / lo.P_max_mean_kN - 1)
+    return (f"From {at(lo)} to {at(hi)} of {level.name} the mean P_max goes from {lo.P_max_mean_kN:.2f} to "
+            f"{hi.P_max_mean_kN:.2f} kN ({change:+.0f} %), its COV from {lo.P_max_cov:.2f} to {hi.P_max_cov:.2f}, "
+            f"and the share of runs failing through the units from {100 * lo.brick_share:.0f} to "
+            f"{100 * hi.brick_share:.0f} % (variant {lo.variant}).")
+
+
+def paper_in_short(card):
+    """The comparison with the paper in one sentence: our all-modes mean's
+    offset from the paper's over the levels, and how many of the paper's
+    means and COVs lie inside our 95 % intervals."""
+    if card is None:
+        return "No source paper is compared."
+    means, cov = card[card.item == "F_max mean (kN)"], card[card.item == "F_max COV"]
+    d = means[means["mode"] == "all"].difference_pct
+    return (f"Our mean P_max of all failure modes stands {d.min():+.1f} to {d.max():+.1f} % from the paper's at "
+            f"its {len(d)} levels; the paper's means lie inside our 95 % intervals for "
+            f"{int(means.paper_inside.astype(bool).sum())} of {len(means)} failure modes and levels, its COVs "
+            f"for {int(cov.paper_inside.astype(bool).sum())} of {len(cov)}.")
+
+
 def _rst_table(head, rows):
     widths = [max(len(x) for x in col) for col in zip(head, *rows)]
     rule = "  ".join("=" * w for w in widths)
@@ -106,7 +137,8 @@ def landing(runs, stats, excluded, level, report, source, card=None, band=None, 
     variants, n_var = "; ".join(f"{n}: {what}" for n, what in report["variants"].items()), runs.variant.nunique()
     links = "\n".join(f"- {name if name.isalnum() else f'`{name}`'}_: {what}." for name, what in report["categories"])
     accuracy = any(name == "Accuracy" for name, _ in report["categories"])
-    return dict(study=report["study"], rule="=" * len(f"masonrydem: the study {report['study']}"),
+    title = f"masonrydem: the {report['study']} study, a wallette in {direction} bending"
+    return dict(title=title, rule="=" * len(title), found=in_short(stats, level), verdict=paper_in_short(card),
                 scene=report["scene"], wallette=report["wallette"], source=source,
                 test=VERTICAL if direction == "vertical" else report["test"],
                 under=" under vertical precompression" if report["precompression"] else "",
@@ -135,7 +167,7 @@ def source(paper, study_file):
     if paper:
         with open(paper) as f:
             return f"{yaml.safe_load(f)['source']}; its published figures: ``{paper}``."
-    return f"the study file ``{study_file}``; no source paper is compared."
+    return f"the study file ``{study_file}``."
 
 
 def read_card(path):

@@ -12,6 +12,7 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 import pyvista as pv  # noqa: E402
 
+from ..analysis.plots import mark  # noqa: E402
 from ..specimen.state import zones_grid  # noqa: E402
 
 pv.OFF_SCREEN = True
@@ -23,6 +24,22 @@ def _camera(p, back=False):
     eye = (0.9, 1.7, 0.9) if back else (0.2, -1.6, 1.0)
     p.camera_position = [eye, (0.54, 0.057, 0.225), (0, 0, 1)]
     p.camera.zoom(1.25)
+
+
+# the pictures' smallest text, in the window's pixels (VTK's font size):
+# the report shows a picture scaled to its width, 1200 pixels to about a
+# thousand at 1280 x 800, and text of this size reads at 9 pixels or more
+TEXT = 18
+# the bars' titles: pixels from the picture's foot, above the bars' tick labels
+BAR_TITLE = 100
+
+
+def _wrapped(text, window):
+    """``text``'s lines wrapped to the window's width at TEXT (a
+    character at most 0.7 of the font size wide)."""
+    import textwrap
+    width = int(0.95 * window[0] / (0.7 * TEXT))
+    return "\n".join(w for line in text.split("\n") for w in textwrap.wrap(line, width) or [""])
 
 
 def picture_numbering(specimen, path, window=(1600, 1000)):
@@ -43,7 +60,7 @@ def picture_numbering(specimen, path, window=(1600, 1000)):
         vol[u] += v
     pos_u /= vol[:, None]
     pos_u[:, 1] = -0.002
-    p.add_point_labels(pos_u, [f"U{u + 1}" for u in range(len(specimen.units))], font_size=16, point_size=1,
+    p.add_point_labels(pos_u, [f"U{u + 1}" for u in range(len(specimen.units))], font_size=TEXT + 2, point_size=1,
                        shape_color="white", always_visible=True)
     mortar = [jn for jn, (kind, _) in enumerate(specimen.joints) if kind != "crack"]
     pos_j = np.zeros((len(specimen.joints), 3))
@@ -55,15 +72,16 @@ def picture_numbering(specimen, path, window=(1600, 1000)):
         area[jn] += c.area
     pos_j = pos_j[mortar] / area[mortar, None]
     pos_j[:, 1] = -0.004
-    p.add_point_labels(pos_j, [f"J{j + 1}" for j in mortar], font_size=13, point_size=6, point_color="red",
+    p.add_point_labels(pos_j, [f"J{j + 1}" for j in mortar], font_size=TEXT, point_size=6, point_color="red",
                        text_color="darkred", shape_opacity=0.75, always_visible=True)
     cracks = len(specimen.joints) - len(mortar)
     note = f"; the crack interface of unit Uk is J{len(mortar)}+k" if cracks else ""
-    p.add_text(f"{specimen.scene.name}: {len(specimen.units)} units (U), {len(mortar)} mortar joints (J){note}",
-               font_size=12)
+    p.add_text(_wrapped(f"{specimen.scene.name}: {len(specimen.units)} units (U), {len(mortar)} mortar joints "
+                        f"(J){note}", window), font_size=TEXT)
     _camera(p)
     p.screenshot(str(path))
     p.close()
+    mark(path, TEXT)
 
 
 # the units' cracking (cell damage, crack interfaces) in reds, the mortar
@@ -123,11 +141,14 @@ def picture_damage(state, path, title="", magnify=None, window=(1600, 1000), rig
         magnify = 0.03 * float(np.ptp(zones.points[:, 0])) / umax if umax > 0 else 1.0
     zones = zones.warp_by_vector("u", factor=magnify)
     p = pv.Plotter(off_screen=True, window_size=window)
-    # a bar tall enough that its title (above) and tick labels (below) keep apart
-    bar = dict(vertical=False, position_y=0.02, width=0.36, height=0.12, title_font_size=16, label_font_size=13,
-               n_labels=6, fmt="%.1f")
-    p.add_mesh(zones, scalars="damage", cmap=UNIT_CMAP, clim=(0, 1),
-               scalar_bar_args=dict(title="unit cracking: cell damage, crack interface D", position_x=0.06, **bar))
+    # the bars at the foot, their tick labels above them and each bar's title above those, as a text of
+    # its own (VTK's title of a bar would sit on the labels); the bars' own titles blank, told apart
+    bar = dict(vertical=False, position_y=0.02, width=0.36, height=0.12, title_font_size=1,
+               label_font_size=TEXT, n_labels=6, fmt="%.1f")
+    p.add_mesh(zones, scalars="damage", cmap=UNIT_CMAP, clim=(0, 1), scalar_bar_args=dict(title=" ", position_x=0.06,
+                                                                                          **bar))
+    p.add_text("unit cracking: cell damage, crack interface D", position=(int(0.06 * window[0]), BAR_TITLE),
+               font_size=TEXT // 2)         # pyvista doubles a placed text's size
     edges = zones.extract_surface(algorithm="dataset_surface").extract_feature_edges(
         boundary_edges=False, non_manifold_edges=False, manifold_edges=False, feature_angle=30)
     p.add_mesh(edges, color="#5a5a5a", line_width=1)
@@ -139,7 +160,9 @@ def picture_damage(state, path, title="", magnify=None, window=(1600, 1000), rig
         bands = _bands(joints, magnify, crack, thickness)
         if bands.n_cells:
             p.add_mesh(bands, scalars="damage", cmap=cmap, clim=(0, 1), show_scalar_bar=not crack, lighting=False,
-                       scalar_bar_args=dict(title="mortar joint damage D", position_x=0.56, **bar))
+                       scalar_bar_args=dict(title="  ", position_x=0.56, **bar))
+            if not crack:
+                p.add_text("mortar joint damage D", position=(int(0.56 * window[0]), BAR_TITLE), font_size=TEXT // 2)
     if rig is not None:
         (_, _, y0, y1, z0, z1) = state["zones"].bounds
         (x0, x1, _, _, _, _) = state["zones"].bounds
@@ -148,11 +171,12 @@ def picture_damage(state, path, title="", magnify=None, window=(1600, 1000), rig
                 ends = (((x0 - 0.04, y, x), (x1 + 0.04, y, x)) if rig.direction == "vertical"
                         else ((x, y, z0 - 0.04), (x, y, z1 + 0.04)))
                 p.add_mesh(pv.Line(*ends).tube(radius=0.004), color=color)
-    p.add_text(f"{title}\nback (tension) face, displacements x {magnify:.0f}; bands: a joint's largest damage "
-               f"through the thickness (from {SHOWN:g}); unit cells with damage >= 0.5 darkest"
-               + ("\nlines: supports black (back face), loads green (front face)" if rig is not None else ""),
-               font_size=11)
+    p.add_text(_wrapped(f"{title}\nback (tension) face, displacements x {magnify:.0f}; bands: a joint's largest "
+                        f"damage through the thickness (from {SHOWN:g}); unit cells with damage >= 0.5 darkest"
+                        + ("\nlines: supports black (back face), loads green (front face)" if rig is not None else ""),
+                        window), font_size=TEXT)
     _camera(p, back=True)
     p.screenshot(str(path))
     p.close()
+    mark(path, TEXT)
     return magnify
