@@ -258,7 +258,7 @@ def _pareto_panel(ax, runs, ref, knee, tolerance):
     middle = np.sqrt(c.wall_time_s.min() * c.wall_time_s.max()) if len(c) else 1.0
     for k, (_, row) in enumerate(front.iterrows()):
         if row.wall_time_s >= 1.6 * last:       # a name where the front has moved on (no pile-up)
-            right = row.wall_time_s > middle        # named towards the panel's middle, inside it
+            right = bool(row.wall_time_s > middle)      # named towards the panel's middle, inside it
             ax.annotate(row.setting, (row.wall_time_s, row.abs_err), fontsize=8, xytext=(-4 if right else 4, -10 if
                         k % 2 else 3), textcoords="offset points", ha=("left", "right")[right], annotation_clip=True)
             last = row.wall_time_s
