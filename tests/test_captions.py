@@ -148,8 +148,8 @@ def test_statistics_captions(level, inputs):
     landing_text = (REPORT / "workflow.rst").read_text().format(**page)
     assert "No source paper is compared" in landing_text
     # a study without a paper cites its study file, and no one else's source
-    assert "``config/studies/demo.yaml``; no source paper" in landing_text and "Willis" not in landing_text
-    assert landing_text.startswith("masonrydem: the study demo\n==========================\n")
+    assert "**Source.** the study file ``config/studies/demo.yaml``." in landing_text and "Willis" not in landing_text
+    assert landing_text.startswith("masonrydem: the demo study, a wallette in horizontal bending\n")
     assert "- Study_: the statistics.\n- Prediction_: the equations.\n- `3-D pictures`_: states." in landing_text
     assert "Accuracy_" not in landing_text and "spatial" not in landing_text.replace("nonspatial", "")
     assert "none" not in values["correlations"]["fields"] and values["correlations"]["fields"] == ""

@@ -682,7 +682,8 @@ def test_a_small_studys_report_is_written_from_its_own_file(tmp_path):
     found = [w for w in WILLIS_WORDS if w.lower() in low]
     assert not found, found
     landing = open("results/studies/waal/report/workflow.rst").read()
-    assert landing.startswith("masonrydem: the study waal") and "per_wall: one draw" in landing
+    assert landing.startswith("masonrydem: the waal study, a wallette in horizontal bending") and \
+        "per_wall: one draw" in landing
     assert "8 courses of 4 units of 210 x 50 x 100 mm" in landing
     links = set(re.findall(r"^- `?([A-Za-z0-9 -]+)`?_:", landing, re.M))
     assert links == {"Study", "Prediction", "3-D pictures"}, links

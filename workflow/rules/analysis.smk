@@ -155,8 +155,9 @@ for stage in dict.fromkeys(p[4] for p in PAGES.values()):
         input:
             **{n: p[0] for n, p in PAGES.items() if p[4] == stage},
         output:
-            **{n: item(f"{R}/report/tables/{n}.html", p[3], p[2], f"{p[1]}: table") for n, p in PAGES.items()
-               if p[4] == stage},
+            # labelled by their short names (the navigation's width is its longest label's), titled in full
+            **{n: item(f"{R}/report/tables/{n}.html", p[3], p[2], f"{n.replace('_', ' ').capitalize()}: table")
+               for n, p in PAGES.items() if p[4] == stage},
         params:
             code=get_code("tables"),
             titles={n: p[1] for n, p in PAGES.items() if p[4] == stage},
@@ -209,7 +210,7 @@ if config.get("geometry_formats"):
         output:
             table=f"{R}/studies/geometry_formats.csv",
             page=item(f"{R}/report/tables/geometry_formats.html", "geometry_formats", "Further studies",
-                      "The geometry study's equations on held-out formats", "brick formats"),
+                      "Equations on held-out formats", "brick formats"),
             caption=get_caption_file("geometry_formats"),
         params:
             formats=config["geometry_formats"]["formats"],

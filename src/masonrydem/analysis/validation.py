@@ -60,9 +60,9 @@ def figure(table, curves, path):
         ax.set_xlabel("load-line displacement (mm)")
         ax.set_ylabel("total load $P$ (kN)")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8, loc="lower right")
+        ax.legend(fontsize=10, loc="lower right")
         ax.text(0.98, 0.26, "no measured curve: none is available\nfor this wallette (docs/study.md, 5)",
-                transform=ax.transAxes, ha="right", va="bottom", fontsize=8.5, color="0.35")
+                transform=ax.transAxes, ha="right", va="bottom", fontsize=10, color="0.35")
     fig.tight_layout()
     save_figure(fig, path, dpi=130)
 
@@ -172,7 +172,7 @@ def specimen_figure(table, curves, path):
           title="triplet shear\n(dashed: c + sigma tan phi, dotted: sigma tan phi)")
     for ax in (a, b):
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=10)
     fig.tight_layout()
     save_figure(fig, path, dpi=130)
 

@@ -72,5 +72,5 @@ def figure(table, level, path, tested=None):
         a.set_xlabel(figures.axis_label(level))
         a.set_ylabel(ylabel)
         a.grid(alpha=0.3)
-        a.legend(fontsize=8)
+        a.legend(fontsize=10)
     figures.save(fig, path)

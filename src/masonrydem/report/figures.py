@@ -58,7 +58,7 @@ def running_mean(runs, path, level):
         ax.set_xlabel("number of simulations")
         ax.grid(alpha=0.3)
     axes[0].set_ylabel(r"running mean of $P_{max}$ (kN)")
-    axes[-1].legend(title=symbol(level.name), fontsize=8, loc="center left",
+    axes[-1].legend(title=symbol(level.name), fontsize=10, loc="center left",
                     bbox_to_anchor=(1.01, 0.5))
     save(fig, path)
 
@@ -172,7 +172,7 @@ def predicted_vs_simulated(fits, path):
         ax.plot([lo, hi], [lo, hi], "k--", lw=1)
     ax.set_xlabel("simulated strength (MPa)")
     ax.set_ylabel("predicted strength (MPa)")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=10)
     ax.grid(alpha=0.3)
     ax2.set_xlabel("out-of-fold prediction error (%)")
     ax2.set_ylabel("runs")
@@ -210,7 +210,7 @@ def design_comparison(design, simulated, path, variant, level, fitted):
     ax.set_xlabel(axis_label(level))
     ax.set_ylabel("strength (MPa)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    ax.legend(fontsize=10, loc="center left", bbox_to_anchor=(1.01, 0.5))
     save(fig, path)
 
 
@@ -259,7 +259,7 @@ def _pareto_panel(ax, runs, ref, knee, tolerance):
     for k, (_, row) in enumerate(front.iterrows()):
         if row.wall_time_s >= 1.6 * last:       # a name where the front has moved on (no pile-up)
             right = bool(row.wall_time_s > middle)      # named towards the panel's middle, inside it
-            ax.annotate(row.setting, (row.wall_time_s, row.abs_err), fontsize=8, xytext=(-4 if right else 4, -10 if
+            ax.annotate(row.setting, (row.wall_time_s, row.abs_err), fontsize=10, xytext=(-4 if right else 4, -10 if
                         k % 2 else 3), textcoords="offset points", ha=("left", "right")[right], annotation_clip=True)
             last = row.wall_time_s
     bad = c[~c.mode_ok]
@@ -303,7 +303,7 @@ def accuracy_scaling(table, path):
                       label=f"fit: exponent {row.exponent:.2f}")
             ax.set_ylabel(ylabel)
             ax.grid(alpha=0.3, which="both")
-            ax.legend(fontsize=9)
+            ax.legend(fontsize=10)
             ax.set_xticks(x, [f"{v:g}" for v in x], minor=False)
             ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
             plain = matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}")
@@ -332,7 +332,7 @@ def accuracy_subsample(paired, path):
     ax.set_xlabel("P_max, fine settings (kN)")
     ax.set_ylabel("P_max, default settings (kN)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=10)
     save(fig, path)
 
 
@@ -358,7 +358,7 @@ def paper_comparison(card, path):
         ax.set_xlabel(SIGMA_V)
         ax.set_ylabel({"F_max mean (kN)": r"mean $F_{max}$ (kN)", "F_max COV": r"COV of $F_{max}$"}[item])
         ax.grid(alpha=0.3)
-    axes[-1].legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    axes[-1].legend(fontsize=10, loc="center left", bbox_to_anchor=(1.01, 0.5))
     save(fig, path)
 
 
@@ -382,10 +382,10 @@ def tornado(table, path, titles=None):
                 yy = y + (k - (len(opts) - 1) / 2) * 0.4
                 ax.barh(yy, r.change_pct, height=0.38, color="tab:red" if r.change_pct > 0 else "tab:blue",
                         hatch="//" if r.mode_changed else None, edgecolor="k", lw=0.3)
-                ax.text(r.change_pct + (1 if r.change_pct >= 0 else -1), yy, r.option, fontsize=9, va="center",
+                ax.text(r.change_pct + (1 if r.change_pct >= 0 else -1), yy, r.option, fontsize=10, va="center",
                         ha="left" if r.change_pct >= 0 else "right")
         ax.axvline(0, color="k", lw=0.8)
-        ax.set_yticks(range(len(order)), [(titles or {}).get(n, n.replace("_", " ")) for n in order], fontsize=9)
+        ax.set_yticks(range(len(order)), [(titles or {}).get(n, n.replace("_", " ")) for n in order], fontsize=10)
         ax.set_title(f"{case} failure case, " + r"$\sigma_v$" + f" = {sv:g} MPa", fontsize=10)
         ax.grid(axis="x", alpha=0.3)
         ax.tick_params(labelbottom=True)          # every panel its scale
