@@ -71,6 +71,41 @@ def test_the_set_up_table_names_its_commands():
         assert re.fullmatch(r"(\d+ min )?\d+(\.\d)? (s|min)", shown), shown
 
 
+def _duration(seconds):
+    """seconds as the README's set-up table states them: 6.5 s, 42 s, 15 min 32 s."""
+    if seconds < 10:
+        return f"{seconds:.1f} s"
+    if round(seconds) < 60:
+        return f"{seconds:.0f} s"
+    minutes, rest = divmod(round(seconds), 60)
+    return f"{minutes} min {rest} s"
+
+
+def test_the_set_up_times_are_setup_csv():
+    """Every other time of the README's set-up table is results/bench/setup.csv's,
+    each measured from a fresh clone by benchmarks/setup_time.py (install,
+    single runs, smoke run, `make test`, `make reproduce`); the measured
+    `make test` passed and the measured `make reproduce` reproduced, and the
+    README's example of its last line is that line."""
+    t = pd.read_csv(RESULTS / "bench/setup.csv", keep_default_na=False)
+    shown = {k: v for k, v in TIMES.items() if "timing.csv" not in k}
+    assert set(shown) == set(t.what), (set(shown) ^ set(t.what))
+    for what, seconds in zip(t.what, t.seconds):
+        assert shown[what] == _duration(seconds), (what, shown[what], seconds)
+    last = dict(zip(t.what, t.last_line))
+    passed = r"\d+ passed(, \d+ (skipped|deselected|warnings?))* in [\d.]+s( \(\d+:\d\d:\d\d\))?"
+    assert re.fullmatch(passed, last["`make test`"]), last["`make test`"]
+    repro = last["`make reproduce` (all but the accuracy study)"]
+    assert repro.startswith("REPRODUCED: "), repro
+    example = re.search(r'"(REPRODUCED: [^"]*?), \.\.\."', _flat(README)).group(1)
+    assert repro.startswith(example), (example, repro)
+
+
+def test_durations_read_as_the_table_states_them():
+    assert [_duration(x) for x in (6.46, 41.8, 59.6, 932.0, 2176.4)] == \
+        ["6.5 s", "42 s", "1 min 0 s", "15 min 32 s", "36 min 16 s"]
+
+
 _TIMED = re.compile(r"\b\d+(?:\.\d+)? ?(?:min\b|minutes\b|hours?\b)")
 
 
