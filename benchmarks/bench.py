@@ -1,7 +1,10 @@
 """Solver speed on a wallette-sized model (24 bricks), one thread, for
 every unit model, and the start-up of a study job.
 
-Prints one JSON line; per unit model (under "models"):
+    .venv/bin/python benchmarks/bench.py [--tiny] [--out results/bench/bench.json]
+
+Prints one JSON line and writes it to ``--out`` (not with ``--tiny``):
+the machine (cpu, cores) and, per unit model (under "models"):
   ns_per_tet_step         zone kernel time / (tetrahedra x steps)
   ns_per_cell_step        elastic cells computed as linear (elements.py):
                           cell kernel time / (cells x steps); for the
@@ -37,13 +40,17 @@ peak (joint failure: joints softening), and a strong-joint wallette past
 its peak (brick failure: zones or crack interfaces cracking).  ``--tiny``:
 the same on a wallette of 2 x 2 units of one cell each (two for the
 potential-crack units), a few hundred steps (tests/test_bench.py runs it,
-so that the benchmark cannot break unnoticed).
+so that the benchmark cannot break unnoticed).  docs/speed.md's table of
+the lanes is results/bench/bench.json's potential-crack model
+(tests/test_docs_numbers.py).
 """
+import argparse
 import json
 import os
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")      # one thread: the cells' products too
@@ -63,6 +70,7 @@ from masonrydem.scene import build_scene  # noqa: E402
 from masonrydem.dem import Controls, init, prescribe, zone_damage  # noqa: E402
 from masonrydem.specimen.build import build  # noqa: E402
 from masonrydem.dem.stops import run  # noqa: E402
+from machine import machine  # noqa: E402
 
 SCENE = "config/scenes/willis.yaml"
 TINY = ["geometry.courses=2", "geometry.units_per_course=2", "numerics.cells=[1, 1, 1]",
@@ -305,7 +313,19 @@ def bootstrap_times(tiny):
     return out
 
 
-def main(tiny=False):
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--tiny", action="store_true", help="a wallette of 2 x 2 units, a few hundred steps")
+    ap.add_argument("--out", type=Path, default=Path(__file__).resolve().parent.parent / "results/bench/bench.json")
+    args = ap.parse_args()
+    out = measure(args.tiny)
+    print(json.dumps(out))
+    if not args.tiny:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        args.out.write_text(json.dumps(out, indent=1) + "\n")
+
+
+def measure(tiny):
     fresh_process_times(1)          # make sure the cache is warm
     import_s, load_s = fresh_process_times(1 if tiny else 3)
     steps, ramp = (600, 200) if tiny else (6000, 2000)
@@ -321,13 +341,13 @@ def main(tiny=False):
             brick = kernel_times(base + STRONG, int(1.5 * steps), ramp, lanes)
             models[name]["brick_failure"] = {k: v for k, v in brick.items()
                                              if k.startswith(("ns_", "steps_", "cracked"))}
-    out = dict(models["elasto-plastic"])
+    out = dict(machine(), **models["elasto-plastic"])
     out.update(kernel_load_s=round(load_s, 3), import_s=round(import_s, 3), job=job_times(tiny), models=models,
                bootstrap=bootstrap_times(tiny))
     if not tiny:
         out["levers"] = lever_times()
-    print(json.dumps(out))
+    return out
 
 
 if __name__ == "__main__":
-    main(tiny="--tiny" in sys.argv[1:])
+    main()

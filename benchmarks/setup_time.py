@@ -26,6 +26,8 @@ from pathlib import Path
 
 import pandas as pd
 
+from machine import machine
+
 ROOT = Path(__file__).resolve().parent.parent
 SINGLE = ".venv/bin/masonrydem run config/scenes/willis.yaml --out runs/ref"
 STEPS = {       # step -> (the README's row, its command, a clone of its own)
@@ -37,15 +39,6 @@ STEPS = {       # step -> (the README's row, its command, a clone of its own)
     "test": ("`make test`", "make test", True),
     "reproduce": ("`make reproduce` (all but the accuracy study)", "make reproduce", True),
 }
-
-
-def cpu():
-    """The CPU's model name and its widest vector instructions."""
-    info = Path("/proc/cpuinfo").read_text() if Path("/proc/cpuinfo").exists() else ""
-    model = next((x.split(":", 1)[1].strip() for x in info.splitlines() if x.startswith("model name")), "unknown")
-    flags = next((x.split(":", 1)[1].split() for x in info.splitlines() if x.startswith("flags")), [])
-    width = "AVX-512" if "avx512f" in flags else "AVX2" if "avx2" in flags else "no AVX2"
-    return f"{model} ({width})"
 
 
 def measure(steps):
@@ -68,8 +61,7 @@ def measure(steps):
             if r.returncode:
                 sys.exit(f"{step} failed (exit {r.returncode}) after {seconds:.0f} s:\n" + "\n".join(lines[-30:]))
             print(f"  {seconds:.1f} s: {last}", file=sys.stderr, flush=True)
-            rows.append(dict(what=what, seconds=round(seconds, 1), last_line=last, commit=commit, cpu=cpu(),
-                             cores=os.cpu_count()))
+            rows.append(dict(what=what, seconds=round(seconds, 1), last_line=last, commit=commit, **machine()))
     return pd.DataFrame(rows)
 
 

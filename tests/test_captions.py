@@ -302,10 +302,12 @@ def test_accuracy_scaling_fits_and_caption():
     assert fits[("units", "wall_time_s")][1] == pytest.approx(2.0)
     assert fits[("cells", "wall_time_s")][1] == pytest.approx(3.0)
     assert tables["units"].us_per_step.tolist() == pytest.approx([1e4, 2e4, 4e4])
+    assert table.against.tolist() == ["units"] * 3 + ["cells"] * 3 and table["size"].tolist() == [12, 24, 48, 1, 2, 4]
+    assert table.run_time_s.tolist() == [1.0, 4.0, 16.0, 1.0, 8.0, 64.0]
     values = captions.accuracy_scaling(table, [6, 12, 24])
     assert values["courses"] == "6, 12, 24"
-    assert values["fits"] == ("wall_time_s ~ units^2.00; us_per_step ~ units^1.00; wall_time_s ~ cells^3.00; "
-                              "us_per_step ~ cells^3.00")
+    assert values["fits"] == ("run time ~ units^2.00; time per step ~ units^1.00; run time ~ cells^3.00; "
+                              "time per step ~ cells^3.00")
     fill("accuracy_scaling", values)
 
 

@@ -9,6 +9,7 @@ import math
 import re
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 import yaml
@@ -441,6 +442,63 @@ def test_what_a_run_costs():
     assert f"a run costs {t.core_s_per_run:.3f} s of one core" in text
 
 
+def _width(cpu):
+    """The vector width a benchmark file's cpu names, as speed.md says it."""
+    return re.search(r"\((AVX-512|AVX2|no AVX2)\)", cpu).group(1)
+
+
+def test_where_a_run_s_time_goes():
+    """docs/speed.md's table of a run's cost is results/bench/run_cost.csv
+    (benchmarks/run_cost.py): a row per part, alone and in a batch of the
+    workflow's lanes, to the millisecond; the mean steps; the machine."""
+    t = pd.read_csv(RESULTS / "bench/run_cost.csv").set_index("part")
+    batch = f"batch of {t.lanes.iloc[0]}"
+    assert t.lanes.iloc[0] == CONFIG["batch"]["lanes"] and t.runs.iloc[0] == 32
+    text = DOCS["docs/speed.md"]
+    rows = _table(text, f"| part | alone | a {batch} |")
+    parts = [row[0].strip("*").split()[0] for row in rows]
+    assert [("total" if p == "a" else p) for p in parts] == ["build", "load", "steps", "stages", "written", "total"]
+    for part, row in zip(t.index, rows):
+        assert [c.strip("*") for c in row[1:]] == [f"{t.loc[part, w]:.3f}" for w in ("alone", batch)], row
+    assert f"{t.loc['mean_steps', 'alone']:,.0f} steps a run" in rows[2][0]
+    section = _flat(_section(text, "## What a run costs"))
+    assert f"a 2-core x86-64 with {_width(t.cpu.iloc[0])}" in section and t.cores.iloc[0] == 2
+
+
+def test_the_lanes_table():
+    """docs/speed.md's table of the lanes and the ratios said of it are
+    results/bench/bench.json's potential-crack model (benchmarks/bench.py)."""
+    import json
+    bench = json.loads((RESULTS / "bench/bench.json").read_text())
+    model = bench["models"]["potential-crack"]
+    lanes = model["lanes"]
+    text = DOCS["docs/speed.md"]
+    rows = _table(text, "| lanes S |")
+    assert [r[0] for r in rows] == list(lanes)
+    for row in rows:
+        x = lanes[row[0]]
+        assert row[1:] == [f"{x['step_us']:.1f}", f"{x['ns_per_cell_step']:.1f}", f"{x['ns_per_subcontact_step']:.1f}"]
+    one, eight = lanes["1"], lanes["8"]
+    flat = _flat(text)
+    assert f"A batch of 8 costs {eight['step_us'] / one['step_us']:.2f} times a batch of one" in flat
+    assert f"a cell costs {eight['ns_per_cell_step']:.0f} ns a sample against {one['ns_per_cell_step']:.0f} alone" in flat
+    assert eight["ns_per_subcontact_step"] < one["ns_per_subcontact_step"] / 2      # "less than half"
+    assert lanes["32"]["step_us"] > eight["step_us"]                                # 32 lanes slower per sample
+    assert f"{model['cells']} cells and {model['subcontacts']:,} joint sub-contacts" in flat
+    assert f"A lane-step costs {eight['step_us']:.1f} us at 8 lanes" in flat
+    assert f"at 1 us a lane-step, would run the study's steps about {eight['step_us']:.0f} times faster" in flat
+
+
+def test_the_bootstrap_s_time():
+    """docs/study.md's seconds of one core for the equations' bootstrap are
+    results/bench/bench.json's time per resample times the study's
+    resamples (config/config.yaml)."""
+    import json
+    boot = json.loads((RESULTS / "bench/bench.json").read_text())["bootstrap"]
+    seconds = boot["jobs1_ms_per_resample"] * CONFIG["study"]["bootstrap"]["resamples"] / 1e3
+    assert f"This takes about {seconds:.0f} s of one core (`make bench`" in _flat(DOCS["docs/study.md"])
+
+
 def test_the_reduced_models_table():
     """docs/findings.md's reduced-models table is results/reduced/summary.csv:
     the elasto-plastic model's P_max and time, each other model's change of
@@ -484,6 +542,23 @@ def test_the_batch_size_as_the_config_gives_it():
     assert named and named <= set(timing.columns), named - set(timing.columns)
 
 
+def test_the_finest_path_level_s_run_time():
+    """The minutes a run of the paths' finest level (21x10x8) takes, as
+    docs/accuracy.md and docs/known-problems.md give them, are
+    results/accuracy/references.csv's shortest and longest; the level beyond
+    it has about half a million tetrahedra."""
+    ref = pd.read_csv(RESULTS / "accuracy/references.csv")
+    finest = ref[ref.cells == "21x10x8"].wall_time_s / 60
+    assert len(finest) == ref.case.nunique()
+    span = f"{finest.min():.0f} to {finest.max():.0f} minutes"
+    assert f"a 21x10x8 run {span}" in _flat(DOCS["docs/accuracy.md"])
+    known = _flat(DOCS["docs/known-problems.md"])
+    assert f"the 21x10x8 level's {span} a run" in known
+    tets_per_cell = ref.tets.iloc[0] / (24 * math.prod(int(x) for x in ref.cells.iloc[0].split("x")))
+    assert "(23x11x9, about half a million tetrahedra)" in known
+    assert 0.4e6 < 24 * 23 * 11 * 9 * tets_per_cell < 0.6e6
+
+
 def test_the_accuracy_studys_costs_as_its_tables_give_them():
     """docs/accuracy.md's costs from the accuracy study's tables: the runs
     that moving the defaults reruns (results/accuracy/runs.csv: all but the
@@ -496,13 +571,15 @@ def test_the_accuracy_studys_costs_as_its_tables_give_them():
     other = runs[(runs.kind != "path") & ~runs.setting.str.startswith("path")]
     assert (f"reruns the other {len(other)} runs ({other.wall_time_s.sum() / 2 / 60:.1f} minutes of two cores"
             in acc)
-    scaling = pd.read_csv(RESULTS / "accuracy/scaling.csv").set_index(["against", "quantity"])
-    units = scaling.loc[("units", "wall_time_s")]
-    seconds = [float(p.split(":")[1]) for p in units.points.split()]
-    assert [int(p.split(":")[0]) for p in units.points.split()] == [24, 48, 96]
-    assert (f"(6, 12, 24 courses: {', '.join(f'{t:.1f}' for t in seconds)} s a run at the defaults, exponent "
-            f"{units.exponent:.2f};" in acc)
-    assert f"as (cells along the unit)^{scaling.loc[('cells', 'wall_time_s')].exponent:.1f}." in acc
+    scaling = pd.read_csv(RESULTS / "accuracy/scaling.csv")
+    units, cells = (scaling[scaling.against == a] for a in ("units", "cells"))
+    assert units["size"].tolist() == [24, 48, 96]
+
+    def exponent(t):        # the power law's, fitted here in log-log
+        return np.polyfit(np.log(t["size"]), np.log(t.run_time_s), 1)[0]
+    assert (f"(6, 12, 24 courses: {', '.join(f'{t:.1f}' for t in units.run_time_s)} s a run at the defaults, "
+            f"exponent {exponent(units):.2f};" in acc)
+    assert f"as (cells along the unit)^{exponent(cells):.1f}." in acc
 
 
 def test_the_crack_penalty_as_the_runs_give_it():
@@ -1083,3 +1160,286 @@ def test_the_studys_bullets_as_quoted():
                           rf"mean, within {NUMBER} % at every level", [d.mean_over_samples[0.25], 0.8])
     for level in (0, 0.15, 0.25, 0.5):
         assert abs(d.mean_over_samples[level] / mean0[level] - 1) <= 0.008, level
+
+
+# --- docs/study.md, formulation.md, known-problems.md, lab-to-design.md: single numbers ---
+
+
+def test_e_bs_independent_index_as_quoted():
+    """docs/study.md's E_b at 0.5 MPa: its squared correlation with the
+    strength and its total index (results/study/sensitivity.csv, the
+    non-spatial variant, all modes: pearson_sq and ST)."""
+    s = pd.read_csv(RESULTS / "study/sensitivity.csv")
+    e = s[(s.variant == "nonspatial") & (s["mode"] == "all") & (s.input == "E_b_mpa") & (s.sigma_v_mpa == 0.5)].iloc[0]
+    _numbers_as(_flat(DOCS["docs/study.md"]), rf"at 0.5 MPa, E_b's squared correlation with the strength is {NUMBER}, "
+                                              rf"yet its total index is only {NUMBER}\.", [e.pearson_sq, e.ST])
+
+
+def _fewest_runs_with_a_lower_end(p=0.05, tail=0.025):
+    """The smallest n with (1 - p)^n <= tail: below it all n runs lie above
+    the p-fractile with a probability above the interval's tail, so no
+    order statistic bounds the fractile from below (closed form)."""
+    return math.ceil(math.log(tail) / math.log(1 - p) - 1e-12)
+
+
+def test_the_order_statistics_as_quoted():
+    """docs/study.md's order statistics of the 5 % fractile (95 %
+    interval): the runs below which none bounds it from below, (1 - 0.05)^n
+    <= 0.025 in closed form, as study.md and lab-to-design.md (the weighted
+    order statistics, at equal weights the same rule) state it, and as
+    `masonrydem check` and fractiles.order_ranks use it; the ranks and
+    coverage for 100 runs from the binomial distribution."""
+    from scipy import stats
+    from masonrydem.analysis.fractiles import order_ranks
+    from masonrydem.analysis.needs import lower_end_runs
+    n = _fewest_runs_with_a_lower_end()
+    assert 0.95 ** n <= 0.025 < 0.95 ** (n - 1)
+    assert n == lower_end_runs() and order_ranks(n)[0] == 1 and order_ranks(n - 1)[0] is None
+    study = _flat(DOCS["docs/study.md"])
+    assert (f"Below {n} runs no order statistic bounds the 5 % fractile from below: all n runs lie above the fractile "
+            f"with probability 0.95^n, which falls to the interval's 2.5 % only at n = {n}.") in study
+    design = _flat(DOCS["docs/lab-to-design.md"])
+    assert (f"below {n} runs no run bounds the 5 % fractile from below (at equal weights all n runs lie above it with "
+            f"probability 0.95^n, more than the interval's 2.5 % below n = {n})") in design
+    cdf = stats.binom.cdf(np.arange(101), 100, 0.05)
+    r = int(np.flatnonzero(cdf <= 0.025)[-1]) + 1
+    s = int(np.flatnonzero(cdf >= 0.975)[0]) + 1
+    ordinal = {1: "1st", 2: "2nd", 3: "3rd"}
+    assert (f"For 100 runs these are the {ordinal.get(r, f'{r}th')} and {ordinal.get(s, f'{s}th')} smallest values, "
+            f"with coverage {100 * (cdf[s - 1] - cdf[r - 1]):.1f} %.") in study
+
+
+def test_the_self_weight_as_quoted():
+    """docs/study.md's self-weight stress at the wallette's base: rho g H
+    with the units' density and the height of config/scenes/willis.yaml's
+    courses (a modelled unit: the brick and a joint), in kPa."""
+    scene = yaml.safe_load((ROOT / "config/scenes/willis.yaml").read_text())
+    g = scene["geometry"]
+    height = g["courses"] * (g["unit"]["height"] + g["joint_thickness"])
+    kpa = scene["materials"]["units"]["density"] * 9.81 * height / 1e3
+    assert scene["physics"]["gravity"] is False
+    assert f"(rho g H: the units' density, the wallette's height), about {kpa:.0f} kPa, is negligible" in \
+        _flat(DOCS["docs/study.md"])
+
+
+def test_the_lasso_check_as_quoted():
+    """docs/study.md's agreement of the exact Lasso path with scikit-learn's
+    LassoCV is what tests/test_regression.py asserts: coordinate descent to
+    a duality gap of 1e-12, the penalty to 1e-12 relative, the coefficients
+    within 1e-7 of the largest."""
+    source = (ROOT / "tests/test_regression.py").read_text()
+    assert "LassoCV(cv=cv, max_iter=10_000_000, tol=1e-12)" in source
+    assert "fit.alpha == pytest.approx(ref.alpha_, rel=1e-12)" in source
+    assert "atol=1e-7 * max(np.abs(ref.coef_).max()" in source
+    assert ("Against scikit-learn's `LassoCV` (coordinate descent to a duality gap of 1e-12, on the same folds) it gives "
+            "the same penalty to 1e-12 relative and the coefficients within 1e-7 of the largest "
+            "(tests/test_regression.py, on constructed runs)") in _flat(DOCS["docs/study.md"])
+
+
+def test_the_head_joint_refinement_as_quoted():
+    """docs/formulation.md's effect of the head joints' refinement: the
+    error of joint_sv05 on 4x3x2 cells without it (pc_c4x3x2_r1) and with
+    it (the defaults), and on 6x3x2 cells the largest change of P_max from
+    refining every joint (pc_c6x3x2_r121) against the head joints alone
+    (pc_c6x3x2_head), rounded up to 0.1 % (results/accuracy/runs.csv)."""
+    error = RUNS.set_index(["setting", "case"]).error
+    text = _flat(DOCS["docs/formulation.md"])
+    assert (f"the weak-joint accuracy case, joint_sv05, moved from {100 * error['pc_c4x3x2_r1', 'joint_sv05']:+.1f} % "
+            f"to {100 * error['default', 'joint_sv05']:+.1f} % with it on 4x3x2 cells") in text
+    p = RUNS.pivot(index="case", columns="setting", values="P_max_kN")
+    change = (p.pc_c6x3x2_r121 / p.pc_c6x3x2_head - 1).abs().max()
+    assert len(p) == 5 and (RUNS.set_index("setting").loc["default"].cells == "4x3x2").all()
+    assert (f"on 6x3x2 cells, refining the bed joints and the crack interfaces too changed no case by more than "
+            f"{math.ceil(1000 * change) / 10:.1f} %") in text
+
+
+def test_the_rate_error_per_component_as_quoted():
+    """docs/formulation.md's loading-rate error of the defaults in brick
+    failure: P_max against the linear extrapolation to zero rate from the
+    run at half the rate, 2 P(r/2) - P(r) (results/accuracy/runs.csv,
+    default and rate_3.75e-08, half the scene's rate)."""
+    p = RUNS.set_index(["setting", "case"]).P_max_kN
+    half = "rate_3.75e-08"
+    assert 2 * float(half.split("_")[1]) == pytest.approx(float(_default("loading", "bending", "rate")))
+
+    def error(case):
+        return 100 * (p["default", case] / (2 * p[half, case] - p["default", case]) - 1)
+    assert (f"results/accuracy/runs.csv) is {error('brick_sv0'):+.1f} % at 0 MPa and {error('brick_sv05'):+.1f} % at "
+            "0.5 MPa") in _flat(DOCS["docs/formulation.md"])
+
+
+def test_the_weakest_joints_half_rate_peak_as_quoted():
+    """docs/formulation.md's hard case ftj_0.05: its peak at the defaults
+    above its half-rate rerun's (results/stability/hard_cases.csv), under
+    the peak judge's 1 % (history.PEAK_UNBALANCE)."""
+    hard = pd.read_csv(RESULTS / "stability/hard_cases.csv").set_index("run").P_max_kN
+    above = 100 * (hard["ftj_0.05"] / hard["ftj_0.05_half_rate"] - 1)
+    limit = re.search(r"^PEAK_UNBALANCE = ([\d.]+)", (SRC / "dem/history.py").read_text(), re.M).group(1)
+    assert (f"(f_tj = 0.05 MPa, hard case `ftj_0.05`), whose early peak rings, read {above:.1f} % above their half-rate "
+            f"peak at {100 * float(limit):g} % (results/stability/hard_cases.csv)") in _flat(DOCS["docs/formulation.md"])
+
+
+def test_the_lower_bounds_share_as_quoted():
+    """docs/formulation.md's share of runs with a lower bound only: under
+    1 % in every committed study (its runs.parquet's status)."""
+    files = [RESULTS / "study/runs.parquet", *sorted((RESULTS / "studies").glob("**/study/runs.parquet"))]
+    assert len(files) > 1
+    for f in files:
+        status = pd.read_parquet(f, columns=["status"]).status
+        assert (status == "lower_bound").mean() < 0.01, f
+    assert "the committed studies have such runs in under 1 % of their runs" in _flat(DOCS["docs/formulation.md"])
+
+
+def test_the_mislabelled_path_level_as_quoted():
+    """docs/known-problems.md's brick_sv0 path level 19x9x7: its P_max and
+    its neighbours', its joint label against their brick ones, and its stop
+    on the load drop (results/accuracy/references.csv)."""
+    ref = pd.read_csv(RESULTS / "accuracy/references.csv")
+    path = ref[(ref.case == "brick_sv0") & ref.setting.str.startswith("path_c")].set_index("cells")
+    lone, below, above = (path.loc[c] for c in ("19x9x7", "17x8x6", "21x10x8"))
+    assert lone.failure_mode == "joint" and below.failure_mode == above.failure_mode == "brick"
+    assert lone.status == "load_drop"
+    _numbers_as(_flat(DOCS["docs/known-problems.md"]),
+                rf"brick_sv0 on 19x9x7 cells \(results/accuracy/runs.csv\) peaks at {NUMBER} kN, in line with its "
+                rf"neighbours \({NUMBER} and {NUMBER} kN\), but is labelled a joint failure",
+                [lone.P_max_kN, below.P_max_kN, above.P_max_kN])
+
+
+def test_the_vertex_rule_as_quoted():
+    """docs/known-problems.md's vertex rule at the safety factor 0.5 on the
+    mean-property wallette at 0 MPa (results/modelform/summary.csv, the
+    joint case): its status, P_max and change from the baseline; the
+    default safety factor it rings at is the schema's, and the model-form
+    study runs the rule at 0.5 (config/config.yaml)."""
+    m = pd.read_csv(RESULTS / "modelform/summary.csv")
+    v = m[(m.case == "joint") & (m.sigma_v_mpa == 0) & (m.option == "vertices (3DEC), safety 0.5")].iloc[0]
+    assert v.status == "load_drop"
+    text = _flat(DOCS["docs/known-problems.md"])
+    _numbers_as(text, rf"At the safety factor 0.5 the run ends on its load drop, at a P_max of {NUMBER} kN "
+                      rf"\(results/modelform/summary.csv, joint case at 0 MPa\), {NUMBER} % above the baseline's",
+                [v.P_max_kN, v.change_pct])
+    safety = SCHEMA["properties"]["numerics"]["properties"]["safety"]["default"]
+    assert f"the default safety factor {safety:g}, the mean-property wallette" in text
+    rule = next(a for a in CONFIG["modelform"]["assumptions"] if a["name"] == "subcontact_rule")
+    assert any("numerics.safety=0.5" in o["overrides"] and "numerics.subcontact_rule=vertices" in o["overrides"]
+               for o in rule["options"])
+    assert next(c for c in CONFIG["modelform"]["cases"] if c["name"] == "joint")["overrides"] == []
+
+
+def test_the_design_rerun_sentence_as_quoted():
+    """docs/lab-to-design.md's sentence on the solver reruns: the largest
+    distance of a re-weighted fractile from its rerun's
+    (results/studies/waal_lab/design/rerun.csv), that pair, where it lies
+    (the lab-only interval's upper end) and its ESS of the study's runs
+    (design.csv)."""
+    t = pd.read_csv(RESULTS / "studies/waal_lab/design/rerun.csv")
+    diff = (t.reweighted_mpa / t.rerun_mpa - 1).abs()
+    worst = t.loc[diff.idxmax()]
+    runs = pd.read_csv(RESULTS / "studies/waal_lab/design/design.csv").runs.iloc[0]
+    assert worst.lab_quantile == 97.5
+    assert t.inside.all()
+    assert (f"within {100 * diff.max():.2f} % of the rerun's own fractile ({worst.reweighted_mpa:.3f} against "
+            f"{worst.rerun_mpa:.3f} MPa at the upper end of the lab-only interval, where the weighted runs are worth "
+            f"{worst.ess:.0f} of {runs})") in _flat(DOCS["docs/lab-to-design.md"])
+
+
+def test_the_design_coverage_limit_as_quoted():
+    """docs/lab-to-design.md's coverage check is tests/test_design.py's: 300
+    labs and studies per case, each side's misses at most the binomial
+    (300, 2.5 %) count at 99.9 %, computed here."""
+    from scipy import stats
+    source = (ROOT / "tests/test_design.py").read_text()
+    assert source.count("stats.binom.ppf(0.999, 300, 0.025)") >= 2
+    limit = stats.binom.ppf(0.999, 300, 0.025)
+    text = _flat(DOCS["docs/lab-to-design.md"])
+    assert "tests/test_design.py draws 300 labs and studies per case" in text
+    assert f"on each side at most the binomial limit of 2.5 % ({limit:.0f} of 300, at 99.9 %)" in text
+
+
+def test_the_agreement_tests_power_as_quoted():
+    """docs/lab-to-design.md's size and power of the wallette tests'
+    agreement test are what tests/test_directions.py asserts: 5 tests among
+    20 runs a level over 2000 constructed cases, called in disagreement at
+    most as often as the binomial (2000, 5 %) allows at 99.9 %, and tests
+    30 % stronger found in at least half of them."""
+    source = (ROOT / "tests/test_directions.py").read_text()
+    for piece in ("for _ in range(2000):", "_runs(rng, levels, 20)", "rng.choice(levels, 5)", "1.3e6 * x",
+                  "hits / 2000 <= stats.binom.ppf(0.999, 2000, 0.05) / 2000", "found / 2000 >= 0.5"):
+        assert piece in source, piece
+    assert ("with 5 tests among 20 runs a level, over 2000 constructed cases, tests drawn from the prediction itself "
+            "are called in disagreement no more often than the binomial limit of a 5 % test allows (the test is exact), "
+            "and tests 30 % stronger than the prediction are found in at least half") in _flat(DOCS["docs/lab-to-design.md"])
+
+
+# --- the commands' printed output, as the pages print it -------------------------
+
+
+def _printed(page, command):
+    """(argv, lines) of each code block of page that starts with the command
+    line `$ .venv/bin/masonrydem <command> ...` and shows what it prints."""
+    import shlex
+    blocks = []
+    for block in re.findall(r"```\n(\$ \.venv/bin/masonrydem [^\n]*)\n(.*?)```", DOCS[page], re.S):
+        line = block[0].removeprefix("$ .venv/bin/masonrydem ")
+        if line.split()[0] == command:
+            blocks.append((shlex.split(line, comments=True), block[1].splitlines()))
+    return blocks
+
+
+def _run_printed(argv, monkeypatch, capsys):
+    from masonrydem.cli import main
+    monkeypatch.chdir(ROOT)
+    capsys.readouterr()
+    assert main(argv) == 0, argv
+    return capsys.readouterr().out.splitlines()
+
+
+def test_the_predict_example_prints_as_shown(monkeypatch, capsys):
+    """docs/your-own-study.md's `masonrydem predict` block is what the
+    command prints on results/studies/waal/study/predictor.json, line for
+    line (strengths, interval, load, shear span)."""
+    (argv, shown), = _printed("docs/your-own-study.md", "predict")
+    assert _run_printed(argv, monkeypatch, capsys) == shown
+
+
+def test_the_fit_examples_print_as_shown(monkeypatch, capsys):
+    """docs/lab-to-design.md's two `masonrydem fit` blocks are what the
+    command prints on the committed lab sheets, line for line, up to the
+    provenance the page elides ('provenance: ...')."""
+    blocks = _printed("docs/lab-to-design.md", "fit")
+    assert len(blocks) == 2
+    for argv, shown in blocks:
+        assert shown[-1].endswith("provenance: ..."), shown[-1]
+        out = _run_printed(argv, monkeypatch, capsys)
+        assert out[:len(shown) - 1] == shown[:-1], argv
+        assert out[len(shown) - 1] == shown[-1].removesuffix(" ..."), argv
+
+
+# --- the cluster profile's runtimes ------------------------------------------------
+
+
+def test_the_cluster_profiles_runtimes_cover_the_slowest_runs():
+    """profiles/slurm/config.yaml's 'slowest N s (table)' of each rule is
+    that committed table's longest wall time, and the rule's runtime is at
+    least twice it (the profile's rule)."""
+    text = (ROOT / "profiles/slurm/config.yaml").read_text()
+    resources = yaml.safe_load(text)["set-resources"]
+    body = text[text.index("set-resources:"):]
+    checked = set()
+    for rule, res in resources.items():
+        start = body.index(f"\n  {rule}:\n")
+        end = re.search(r"\n  [a-z_]+:\n|\n[^ \n]", body[start + 1:])
+        block = body[start:start + 1 + end.start()] if end else body[start:]
+        comments = _flat(" ".join(line.split("#", 1)[1] for line in block.splitlines() if "#" in line))
+        m = re.search(r"slowest (\d+) s \((?:[^()]*?, )?(results/[\w/]+\.csv)\)", comments)
+        if not m:
+            continue
+        table = m.group(2)
+        t = pd.read_csv(ROOT / table)
+        times = t[t.against == "units"].run_time_s if "against" in t else t.wall_time_s
+        assert m.group(1) == f"{times.max():.0f}", (rule, m.group(0), times.max())
+        minutes = int(re.match(r"\s*(\d+)", str(res["runtime"])).group(1))
+        assert 60 * minutes >= 2 * times.max(), (rule, minutes, times.max())
+        checked.add(rule)
+    assert checked == {"validation_run", "hard_case_run", "reduced_run", "specimen_run", "accuracy_run",
+                       "accuracy_scaling_run"}, checked

@@ -106,26 +106,33 @@ def power_fit(x, y):
     return float(np.exp(loga)), float(k)
 
 
+# the quantities of a scaling run fitted against the wallette's size, and
+# their columns in the scaling table
+SCALED = {"wall_time_s": "run_time_s", "us_per_step": "step_time_us", "tets": "tetrahedra"}
+
+
 def scaling(units, runs, settings):
     """Run time, time per step and tetrahedra against the number of units
     (``units``: the scaling runs' rows with their wallettes' 'courses')
     and against cells per unit edge (the ok runs of the first case in the
     sweep table ``runs`` at the grid ``settings``), each fitted with a
-    power law.  Returns (table, tables, fits): one row per fit with its
-    points; the two tables ('units', 'cells') with 'us_per_step'; (against,
-    quantity) -> (a, k)."""
+    power law (a quantity that is zero throughout, the tetrahedra of units
+    without zones, has none).  Returns (table, tables, fits): one row per
+    run (against: 'units' or 'cells', size: the units or the cells along
+    a unit's edge, and the quantities); the two tables ('units', 'cells')
+    with 'us_per_step'; (against, quantity) -> (a, k)."""
     first = runs.case.iloc[0]
     cells = runs[(runs.case == first) & runs.setting.isin(settings) & runs.ok]
     tables = {"units": units.copy(), "cells": cells.sort_values("cells_n").assign(cells=lambda t: t.cells_n)}
     rows, fits = [], {}
     for name, t in tables.items():
         t["us_per_step"] = t.wall_time_s / t.steps * 1e6
-        for col in ("wall_time_s", "us_per_step", "tets"):
-            a, k = power_fit(t[name], t[col])
-            fits[(name, col)] = (a, k)
-            rows.append(dict(against=name, quantity=col, exponent=k, coefficient=a,
-                             points=" ".join(f"{xx:g}:{yy:.4g}" for xx, yy in zip(t[name], t[col]))))
-    return pd.DataFrame(rows), tables, fits
+        rows.append(pd.DataFrame({"against": name, "size": t[name].to_numpy(),
+                                  **{out: t[col].to_numpy() for col, out in SCALED.items()}}))
+        for col in SCALED:
+            if (t[col] > 0).all():
+                fits[(name, col)] = power_fit(t[name], t[col])
+    return pd.concat(rows, ignore_index=True), tables, fits
 
 
 def paired(default, fine):

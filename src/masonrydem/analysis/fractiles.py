@@ -14,7 +14,8 @@ variant and level, with confidence intervals, estimated two ways.
   the binomial distribution function.  r is the highest rank with
   B(r - 1) <= alpha/2 and s the lowest with B(s - 1) >= 1 - alpha/2, so the
   coverage is at least the confidence asked for; where no rank satisfies
-  one side (n below about 60 for p = 5 %) that bound is undefined.
+  one side (the lower one below n = 72 for p = 5 % at 95 %: 0.95^n > 0.025) that
+  bound is undefined.
 
 Which of the two the data support: Shapiro-Wilk on the logs; p >= 0.05
 keeps the lognormal one (the narrower interval), otherwise the

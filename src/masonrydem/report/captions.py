@@ -368,11 +368,12 @@ def accuracy_choice(table, conv, choice, baselines, tolerance, numerics):
 
 
 def accuracy_scaling(table, courses):
-    """accuracy.scaling's table: the fitted power laws (run time and time
-    per step) and the wallettes' courses."""
-    return dict(courses=", ".join(str(c) for c in courses),
-                fits="; ".join(f"{r.quantity} ~ {r.against}^{r.exponent:.2f}" for r in table.itertuples()
-                               if r.quantity != "tets"))
+    """accuracy.scaling's table (a row per run): the power laws of run time
+    and time per step fitted against each size, and the wallettes' courses."""
+    fits = [f"{name} ~ {against}^{accuracy.power_fit(g['size'], g[col])[1]:.2f}"
+            for against, g in table.groupby("against", sort=False)
+            for col, name in (("run_time_s", "run time"), ("step_time_us", "time per step"))]
+    return dict(courses=", ".join(str(c) for c in courses), fits="; ".join(fits))
 
 
 def accuracy_subsample(table, fine):

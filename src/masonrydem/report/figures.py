@@ -8,6 +8,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from ..analysis import accuracy  # noqa: E402
 from ..analysis import statistics as A  # noqa: E402
 from ..analysis.plots import save_figure  # noqa: E402
 
@@ -288,19 +289,18 @@ def _pareto_panel(ax, runs, ref, knee, tolerance):
 def accuracy_scaling(table, path):
     """Run time (s) and time per step (ms) against the number of units and
     against cells per unit edge (log-log), each with its fitted power law:
-    from the table accuracy.scaling writes (scaling.csv: its 'points' are
-    'x:y' pairs)."""
+    from the table accuracy.scaling writes (scaling.csv, a row per run)."""
     fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex="col")
-    quantities = (("wall_time_s", 1.0, "run time (s)"), ("us_per_step", 1e3, "time per step (ms)"))
+    quantities = (("run_time_s", 1.0, "run time (s)"), ("step_time_us", 1e3, "time per step (ms)"))
     for j, (against, xlabel) in enumerate((("units", "units in the wallette"), ("cells", "cells along a unit"))):
         for i, (col, per, ylabel) in enumerate(quantities):
             ax = axes[i][j]
-            row = table[(table.against == against) & (table.quantity == col)].iloc[0]
-            x, y = np.array([[float(v) for v in pt.split(":")] for pt in row.points.split()]).T
+            rows = table[table.against == against]
+            x, y = rows["size"].to_numpy(float), rows[col].to_numpy(float)
+            a, k = accuracy.power_fit(x, y)
             ax.loglog(x, y / per, "o", color="C0" if i == 0 else "C1")
             xs = np.geomspace(x.min(), x.max(), 20)
-            ax.loglog(xs, row.coefficient * xs ** row.exponent / per, "k:", lw=0.8,
-                      label=f"fit: exponent {row.exponent:.2f}")
+            ax.loglog(xs, a * xs ** k / per, "k:", lw=0.8, label=f"fit: exponent {k:.2f}")
             ax.set_ylabel(ylabel)
             ax.grid(alpha=0.3, which="both")
             ax.legend(fontsize=10)

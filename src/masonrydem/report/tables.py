@@ -26,7 +26,7 @@ KEYS = ("item", "format", "variant", "case", "run", "test", "model", "setting", 
 WIDE = 9
 # units by the column name's suffix (longest first)
 UNITS = (("_kN_per_mm", "kN/mm"), ("_kN", "kN"), ("_mpa", "MPa"), ("_MPa", "MPa"), ("_mm", "mm"), ("_pct", "%"),
-         ("_deg", "°"), ("_s", "s"), ("_m", "m"))
+         ("_deg", "°"), ("_us", "µs"), ("_s", "s"), ("_m", "m"))
 # abbreviations as engineering texts write them; Greek letters by name
 WORDS = {"cov": "COV", "mape": "MAPE", "cv": "CV", "sd": "SD", "r2": "R²", "lg": "Lourenço-Gaetani",
          "as3700": "AS 3700", "S1": "S<sub>1</sub>", "ST": "S<sub>T</sub>"}
