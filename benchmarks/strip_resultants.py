@@ -5,17 +5,25 @@ follows, for strips of several widths (docs/findings.md, "What each
 modelling choice does").
 
     .venv/bin/python benchmarks/strip_resultants.py [--widths 0.01 0.02 0.04] [--set KEY=VALUE ...]
+        [--out results/modelform/strip_resultants.csv]
 
 A strip is one node that translates without turning, bearing on the wall
 through compression-only sub-contacts (contacts.Strip): as the wall turns
 over it, its pressure gathers toward one edge.  The strength formula
 takes the nominal arm a (support to load, 275 mm); the arm of the
-resultants is a - the shifts.  Prints, per width, P_max, each strip's
-shift toward the span's centre or its ends, and the effective arm.
+resultants is a - the shifts.  Runs each width with strips that only
+translate (``loading.bending.strips_turn=false``) and with strips that
+turn; prints, per run, P_max, each strip's shift toward the span's centre
+or its ends, and the effective arm; and writes ``--out``: per run the
+strips, the width, P_max, the mean arm of the resultants, P_max times it,
+the largest shift and the settings (docs/findings.md's table is this file,
+tests/test_docs_numbers.py).
 """
 import argparse
+from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from masonrydem.specimen.protocol import CHUNK, precompress
 from masonrydem.scene import build_scene
@@ -63,20 +71,29 @@ def main():
     ap.add_argument("--scene", default="config/scenes/willis.yaml")
     ap.add_argument("--widths", nargs="*", type=float, default=[0.010, 0.020, 0.040])
     ap.add_argument("--set", action="append", default=[])
+    ap.add_argument("--out", type=Path, default=Path("results/modelform/strip_resultants.csv"))
     args = ap.parse_args()
-    for w in args.widths:
-        scene = build_scene(args.scene, args.set + [f"loading.bending.strip_width={w}"])
-        P, xs, strips = at_peak(scene)
-        bend = scene.loading.bending
-        centre = 0.5 * (min(bend.supports) + max(bend.supports))
-        shifts = {s.name: (x - s.x0[0]) * np.sign(centre - s.x0[0]) * 1e3 for s, x in zip(strips, xs)}
-        supports, loads = (sorted(x for s, x in zip(strips, xs) if s.name.startswith(kind))
-                           for kind in ("support", "load"))
-        arm = [abs(xl - xsup) for xsup, xl in zip(supports, loads)]
-        print(f"strip width {w * 1e3:4.0f} mm: P_max {P:7.3f} kN; shift toward the centre (mm): "
-              + ", ".join(f"{k} {v:+.1f}" for k, v in shifts.items())
-              + f"; arms of the resultants {', '.join(f'{1e3 * a:.1f}' for a in arm)} mm (nominal "
-              f"{1e3 * (min(bend.loads) - min(bend.supports)):.0f})", flush=True)
+    rows = []
+    for turn in (False, True):
+        for w in args.widths:
+            scene = build_scene(args.scene, args.set + [f"loading.bending.strip_width={w}",
+                                                        f"loading.bending.strips_turn={str(turn).lower()}"])
+            P, xs, strips = at_peak(scene)
+            bend = scene.loading.bending
+            centre = 0.5 * (min(bend.supports) + max(bend.supports))
+            shifts = {s.name: (x - s.x0[0]) * np.sign(centre - s.x0[0]) * 1e3 for s, x in zip(strips, xs)}
+            supports, loads = (sorted(x for s, x in zip(strips, xs) if s.name.startswith(kind))
+                               for kind in ("support", "load"))
+            arm = 1e3 * np.mean([abs(xl - xsup) for xsup, xl in zip(supports, loads)])
+            print(f"strips {'turn' if turn else 'translate'}, width {w * 1e3:4.0f} mm: P_max {P:7.3f} kN; shift "
+                  "toward the centre (mm): " + ", ".join(f"{k} {v:+.1f}" for k, v in shifts.items())
+                  + f"; arm of the resultants {arm:.1f} mm (nominal "
+                  f"{1e3 * (min(bend.loads) - min(bend.supports)):.0f})", flush=True)
+            rows.append(dict(strips="turn" if turn else "translate", width_mm=round(w * 1e3, 3), P_max_kN=P,
+                             arm_mm=arm, moment_kN_mm=P * arm, max_shift_mm=max(abs(v) for v in shifts.values()),
+                             settings=" ".join(args.set)))
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    pd.DataFrame(rows).to_csv(args.out, index=False, float_format="%.6g")
 
 
 if __name__ == "__main__":

@@ -1443,3 +1443,24 @@ def test_the_cluster_profiles_runtimes_cover_the_slowest_runs():
         checked.add(rule)
     assert checked == {"validation_run", "hard_case_run", "reduced_run", "specimen_run", "accuracy_run",
                        "accuracy_scaling_run"}, checked
+
+
+def test_the_strip_resultants_table():
+    """docs/findings.md's table of the translating strips' resultants is
+    results/modelform/strip_resultants.csv (benchmarks/strip_resultants.py):
+    P_max, the arm and the moment per width, the moment within 1 %, and the
+    turning strips' resultants within 0.1 mm of their lines."""
+    t = pd.read_csv(RESULTS / "modelform/strip_resultants.csv")
+    assert set(t.settings) == {"numerics.cells=[6, 3, 2]"}
+    text = DOCS["docs/findings.md"]
+    assert 'benchmarks/strip_resultants.py --set "numerics.cells=[6, 3, 2]"` measured where' in _flat(text)
+    rows = _table("\n".join(x.strip() for x in text.splitlines()), "| strip width | P_max 0 MPa (kN) |")
+    moving = t[t.strips == "translate"]
+    assert [r for r in rows] == [[f"{w:.0f} mm", f"{p:.3f}", f"{a:.1f}", f"{m:.0f}"] for w, p, a, m in
+                                 zip(moving.width_mm, moving.P_max_kN, moving.arm_mm, moving.moment_kN_mm)]
+    assert moving.moment_kN_mm.max() / moving.moment_kN_mm.min() - 1 < 0.01
+    turning = t[t.strips == "turn"]
+    assert list(turning.width_mm) == list(moving.width_mm)
+    assert (f"every resultant lies within {turning.max_shift_mm.max():.1f} mm of its line for "
+            f"{', '.join(f'{w:.0f}' for w in turning.width_mm[:-1])} and {turning.width_mm.iloc[-1]:.0f} mm") \
+        in _flat(text)

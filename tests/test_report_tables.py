@@ -130,13 +130,14 @@ def test_a_column_shows_its_numbers_to_one_precision_and_an_error_in_percent():
     """Every number of a column to the same decimals (4 significant digits
     of its largest value, at least 2 of its smallest), a relative error (a fraction
     in the CSV) in % with its interval, and a page of correlations without
-    its inputs' units."""
+    its inputs' units (its level with its unit)."""
     t = pd.DataFrame(dict(case=["a", "b"], difference_pct=[3.229, -25.0], max_abs_error=[0.01649, 0.0042],
                           mean_diff=[-0.001459, 0.0004], mean_diff_lo=[-0.002, -0.001], mean_diff_hi=[0.0, 0.002]))
     r = tables.readable(t)
     assert list(r["difference (%)"]) == ["3.23", "-25.00"]
     assert list(r["max abs error (%)"]) == ["1.649", "0.420"]
     assert list(r["mean diff (%), 95 % interval"]) == ["-0.1459 (-0.2000 to 0.0000)", "0.0400 (-0.1000 to 0.2000)"]
-    corr = pd.DataFrame(dict(variant=["v"], f_tj_mpa=[0.92], phi_j_deg=[-0.05]))
-    assert list(tables.readable(corr, units=False).columns) == ["variant", "f<sub>tj</sub>", "φ<sub>j</sub>"]
+    corr = pd.DataFrame(dict(variant=["v"], sigma_v_mpa=[0.15], f_tj_mpa=[0.92], phi_j_deg=[-0.05]))
+    assert list(tables.readable(corr, units=False).columns) == ["variant", "σ<sub>v</sub> (MPa)", "f<sub>tj</sub>",
+                                                                "φ<sub>j</sub>"]      # the level keeps its unit
     assert "f<sub>tj</sub> (MPa)" in tables.readable(corr).columns

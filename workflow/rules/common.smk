@@ -267,7 +267,7 @@ PAGES = {
                              "Accuracy", "accuracy_convergence", "accuracy"),
     "accuracy_choice": (f"{R}/accuracy/choice.csv", "The candidate settings: error and time", "Accuracy",
                         "accuracy_choice", "accuracy"),
-    "accuracy_scaling": (f"{R}/accuracy/scaling.csv", "Run time against wallette size: power laws", "Accuracy",
+    "accuracy_scaling": (f"{R}/accuracy/scaling.csv", "Run time against wallette size, a run per row (the power laws: caption)", "Accuracy",
                          "accuracy_scaling", "accuracy"),
     "accuracy_subsample": (f"{R}/accuracy/subsample.csv", "Study samples at the default and fine settings",
                            "Accuracy", "accuracy_subsample", "accuracy"),

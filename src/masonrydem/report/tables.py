@@ -9,7 +9,7 @@ readable, never changed in substance:
   decimals, yes/no for true/false;
 - a relative error or difference (FRACTIONS) in %, as the captions give it;
 - a page of correlations (``units=False``) with its inputs' names alone,
-  no units (a correlation has none);
+  no units (a correlation has none), its key columns (the level) with theirs;
 - the key columns (what a row is: item, variant, case, mode, level) first;
 - a table wider than it is long, of more than ``WIDE`` columns,
   transposed: one column per row of the CSV.
@@ -120,7 +120,7 @@ def readable(table, units=True):
         cells = _column(table[group] * (100 if c in FRACTIONS else 1) if c in FRACTIONS else table[group],
                         table.get("item") if c not in KEYS else None)
         text = cells[c]
-        name = header(c, units) + (" (%)" if c in FRACTIONS else "")
+        name = header(c, units or c in KEYS) + (" (%)" if c in FRACTIONS else "")
         if len(group) == 3:
             lo, hi = (cells[x] for x in group[1:])
             text = text + np.where(lo.ne("") & hi.ne(""), " (" + lo + " to " + hi + ")", "")
@@ -138,7 +138,7 @@ def html_page(tables, title, units=True):
     for heading, table in tables:
         t = readable(table, units)
         if t.shape[1] > WIDE and len(t) < t.shape[1]:
-            keys = [header(c, units) for c in KEYS if c in table and header(c, units) in t][:2]
+            keys = [header(c, True) for c in KEYS if c in table and header(c, True) in t][:2]
             names = t[keys].agg(", ".join, axis=1) if keys else pd.Series(range(1, len(t) + 1)).astype(str)
             t = t.drop(columns=keys).T
             t.columns = names
