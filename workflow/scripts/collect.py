@@ -10,6 +10,7 @@ from pathlib import Path
 sm = snakemake  # noqa: F821
 sys.stderr = sys.stdout = open(sm.log[0], "w")
 
+import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from masonrydem.analysis.statistics import check_one_solver, lower_bounds, of_study  # noqa: E402
@@ -36,16 +37,24 @@ if missing:
 
 
 def thinned(path):
-    """The curve at about curve_points points; one that has no more (plus
-    its peak) is kept whole, so thinning twice changes nothing."""
-    c = pd.DataFrame(read_json(path)).astype({"step": "int64"})
-    if len(c) > sm.params.curve_points + 1:
-        c = c.iloc[downsample(c.displacement_mm.to_numpy(), c.load_kN.to_numpy(), sm.params.curve_points)]
-    return c.astype({k: "float32" for k in ("displacement_mm", "load_kN", "ratio", "unbalance")})
+    """The curve's columns at about curve_points points; one that has no
+    more (plus its peak) is kept whole, so thinning twice changes nothing."""
+    c = {k: np.asarray(v) for k, v in read_json(path).items()}
+    if len(c["step"]) > sm.params.curve_points + 1:
+        keep = downsample(c["displacement_mm"], c["load_kN"], sm.params.curve_points)
+        c = {k: v[keep] for k, v in c.items()}
+    return c
 
 
-curves = pd.concat([thinned(p).assign(variant=r.variant, sample=r["sample"], **{level: r[level]})
-                    for p, (_, r) in zip(sm.input.curves, runs.iterrows())], ignore_index=True)
+# every curve's columns joined (one table built, not one a run), in single
+# precision, each point with its run's variant, sample and level
+parts = [thinned(p) for p in sm.input.curves]
+columns = {k: np.concatenate([c[k] for c in parts]) for k in parts[0]}
+columns["step"] = columns["step"].astype("int64")
+columns.update({k: columns[k].astype("float32") for k in ("displacement_mm", "load_kN", "ratio", "unbalance")})
+lengths = [len(c["step"]) for c in parts]
+columns.update({k: np.repeat(runs[k].to_numpy(), lengths) for k in ("variant", "sample", level)})
+curves = pd.DataFrame(columns)
 atomic_write(sm.output.runs, lambda p: runs.to_parquet(p, index=False))
 atomic_write(sm.output.curves, lambda p: curves.to_parquet(p, index=False))
 print(f"{len(runs)} runs, {int((~runs.ok).sum())} not ok:")
