@@ -5,6 +5,7 @@ the package's sources), so that a rerun or a changed setting not carried
 into the docs fails here.  Measured times live in one place, the README's
 set-up table; the performance log (docs/dev/) and CHANGELOG.md are history
 and are not checked.  Fast: no simulation, no import of the solver."""
+import json
 import math
 import re
 from pathlib import Path
@@ -468,7 +469,6 @@ def test_where_a_run_s_time_goes():
 def test_the_lanes_table():
     """docs/speed.md's table of the lanes and the ratios said of it are
     results/bench/bench.json's potential-crack model (benchmarks/bench.py)."""
-    import json
     bench = json.loads((RESULTS / "bench/bench.json").read_text())
     model = bench["models"]["potential-crack"]
     lanes = model["lanes"]
@@ -493,7 +493,6 @@ def test_the_bootstrap_s_time():
     """docs/study.md's seconds of one core for the equations' bootstrap are
     results/bench/bench.json's time per resample times the study's
     resamples (config/config.yaml)."""
-    import json
     boot = json.loads((RESULTS / "bench/bench.json").read_text())["bootstrap"]
     seconds = boot["jobs1_ms_per_resample"] * CONFIG["study"]["bootstrap"]["resamples"] / 1e3
     assert f"This takes about {seconds:.0f} s of one core (`make bench`" in _flat(DOCS["docs/study.md"])
