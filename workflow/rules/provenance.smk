@@ -92,9 +92,20 @@ def _sha256(path):
 
 
 @functools.cache
+def _run_products():
+    """The products of the rules that make runs (Rule.is_producer's, read
+    once): the paths without wildcards as a set, the patterns with them as
+    their regular expressions."""
+    products = [o for r in workflow.rules if per_run_rule(r.name) for o in r.products()]
+    return ({str(o) for o in products if not o.get_wildcard_names()},
+            [o.regex() for o in products if o.get_wildcard_names()])
+
+
+@functools.cache
 def _single_run(path):
     """Whether ``path`` is a single run's output (not committed)."""
-    return any(r.is_producer(path) for r in workflow.rules if per_run_rule(r.name))
+    paths, patterns = _run_products()
+    return path in paths or any(p.match(path) for p in patterns)
 
 
 def _kept(record, saved):
@@ -191,3 +202,4 @@ def save_provenance():
     text = json.dumps(entries, indent=1, sort_keys=True) + "\n"
     if not Path(PROVENANCE).is_file() or Path(PROVENANCE).read_text() != text:
         Path(PROVENANCE).write_text(text)
+
