@@ -162,13 +162,13 @@ def test_the_folds_hold_whole_samples(monkeypatch):
     """prediction_equations passes each run's sample as its group (a fold
     holds a sample at every level), the mode's runs only."""
     seen = {}
-    real = E.fit_equation
+    real = E.fit_features
 
-    def spy(inputs, strength, groups, *args, **kw):
-        seen[len(seen)] = (np.asarray(groups).copy(), np.asarray(inputs["f_tu"]).copy())
-        return real(inputs, strength, groups, *args, **kw)
+    def spy(X, strength, groups, *args, **kw):
+        seen[len(seen)] = (np.asarray(groups).copy(), np.asarray(X[:, TERMS.index("f_tu")]).copy())
+        return real(X, strength, groups, *args, **kw)
 
-    monkeypatch.setattr(E, "fit_equation", spy)
+    monkeypatch.setattr(E, "fit_features", spy)
     ns = _runs(JOINT, BRICK, 8, 8).sample(frac=1.0, random_state=0)        # rows shuffled
     E.prediction_equations(ns, TERMS, COLUMNS)
     for k, mode in enumerate(("joint", "brick")):

@@ -115,24 +115,19 @@ def scaling(units, runs, settings):
     """Run time, time per step and tetrahedra against the number of units
     (``units``: the scaling runs' rows with their wallettes' 'courses')
     and against cells per unit edge (the ok runs of the first case in the
-    sweep table ``runs`` at the grid ``settings``), each fitted with a
-    power law (a quantity that is zero throughout, the tetrahedra of units
-    without zones, has none).  Returns (table, tables, fits): one row per
-    run (against: 'units' or 'cells', size: the units or the cells along
-    a unit's edge, and the quantities); the two tables ('units', 'cells')
-    with 'us_per_step'; (against, quantity) -> (a, k)."""
+    sweep table ``runs`` at the grid ``settings``): one row per run
+    (against: 'units' or 'cells', size: the units or the cells along a
+    unit's edge, and the quantities, named as SCALED names them), from
+    which the caption and the figure fit their power laws (power_fit)."""
     first = runs.case.iloc[0]
     cells = runs[(runs.case == first) & runs.setting.isin(settings) & runs.ok]
-    tables = {"units": units.copy(), "cells": cells.sort_values("cells_n").assign(cells=lambda t: t.cells_n)}
-    rows, fits = [], {}
+    tables = {"units": units, "cells": cells.sort_values("cells_n").assign(cells=lambda t: t.cells_n)}
+    rows = []
     for name, t in tables.items():
-        t["us_per_step"] = t.wall_time_s / t.steps * 1e6
+        t = t.assign(us_per_step=t.wall_time_s / t.steps * 1e6)
         rows.append(pd.DataFrame({"against": name, "size": t[name].to_numpy(),
                                   **{out: t[col].to_numpy() for col, out in SCALED.items()}}))
-        for col in SCALED:
-            if (t[col] > 0).all():
-                fits[(name, col)] = power_fit(t[name], t[col])
-    return pd.concat(rows, ignore_index=True), tables, fits
+    return pd.concat(rows, ignore_index=True)
 
 
 def paired(default, fine):

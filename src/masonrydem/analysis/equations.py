@@ -105,7 +105,11 @@ def fit_equation(inputs, strength, groups, terms, nested=True):
     other four fifths of the samples (nested cross-validation), which is
     the error to expect on a wallette the fit has not seen (left out,
     NaN, with ``nested=False``)."""
-    X = features(inputs, terms)
+    return fit_features(features(inputs, terms), strength, groups, terms, nested)
+
+
+def fit_features(X, strength, groups, terms, nested=True):
+    """fit_equation on the matrix X of the ``terms`` (``features``)."""
     y = np.asarray(strength, float)
     groups = np.asarray(groups)
     if np.unique(groups).size < MIN_SAMPLES:
@@ -123,8 +127,12 @@ def fit_equation(inputs, strength, groups, terms, nested=True):
 
 def predict(eq, inputs):
     """The equation ``eq`` at ``inputs`` (its terms' inputs at least)."""
-    terms = tuple(eq["coef"])
-    return eq["intercept"] + features(inputs, terms) @ np.array([eq["coef"][k] for k in terms])
+    return on_features(eq, features(inputs, tuple(eq["coef"])))
+
+
+def on_features(eq, X):
+    """The equation ``eq`` on the matrix X of its terms (``features``)."""
+    return eq["intercept"] + X @ np.array(list(eq["coef"].values()))
 
 
 def mape(y, yhat):
@@ -141,8 +149,12 @@ def equation_text(eq):
 def lower_of_two(eq_joint, eq_brick, inputs):
     """Predicted capacity: the lower of the two equations; the predicted
     mode is that of the lower one.  Returns (strength, mode array)."""
-    j, b = predict(eq_joint, inputs), predict(eq_brick, inputs)
-    return np.minimum(j, b), np.where(j <= b, "joint", "brick")
+    return _lower(predict(eq_joint, inputs), predict(eq_brick, inputs))
+
+
+def _lower(joint, brick):
+    """The lower of the joint and the brick equation's values, and its mode."""
+    return np.minimum(joint, brick), np.where(joint <= brick, "joint", "brick")
 
 
 def prediction_over_samples(eq_joint, eq_brick, samples, level, levels):
@@ -166,23 +178,34 @@ def prediction_equations(ns, terms, columns, nested=True):
     scored on every run of ``ns``.  Returns (fits, rows, residual_sd):
     mode -> (equation, simulated strengths); the equations table's rows;
     the standard deviation of the predictor's residuals (MPa)."""
+    return _equations(*_arrays(ns, terms, columns), terms, nested)
+
+
+def _arrays(ns, terms, columns):
+    """The runs ``ns`` as arrays: the matrix of the terms, the strength, the
+    failure mode and the sample of each run."""
+    return (features(inputs_of(ns, columns), terms), ns.strength_mpa.to_numpy(float), ns.failure_mode.to_numpy(),
+            ns["sample"].to_numpy())
+
+
+def _equations(X, y, mode, sample, terms, nested):
+    """prediction_equations on the runs as arrays (``_arrays``)."""
     fits, rows = {}, []
-    for mode in ("joint", "brick"):
-        g = ns[ns.failure_mode == mode]
-        if g["sample"].nunique() < MIN_SAMPLES:
-            rows.append(dict(mode=mode, n=len(g), equation=f"too few runs to fit ({g['sample'].nunique()} samples, "
-                                                              f"the nested 5-fold CV needs {MIN_SAMPLES})"))
+    for m in ("joint", "brick"):
+        k = mode == m
+        if np.unique(sample[k]).size < MIN_SAMPLES:
+            rows.append(dict(mode=m, n=int(k.sum()), equation=f"too few runs to fit ({np.unique(sample[k]).size} "
+                                                                f"samples, the nested 5-fold CV needs {MIN_SAMPLES})"))
             continue
-        eq = fit_equation(inputs_of(g, columns), g.strength_mpa, g["sample"], terms, nested=nested)
-        fits[mode] = (eq, g.strength_mpa.to_numpy())
-        rows.append(dict(mode=mode, n=eq["n"], alpha=eq["alpha"], mape_pct=eq["mape"], cv_mape_pct=eq["cv_mape"],
+        eq = fit_features(X[k], y[k], sample[k], terms, nested=nested)
+        fits[m] = (eq, y[k])
+        rows.append(dict(mode=m, n=eq["n"], alpha=eq["alpha"], mape_pct=eq["mape"], cv_mape_pct=eq["cv_mape"],
                          intercept=eq["intercept"], **eq["coef"], equation=equation_text(eq)))
     resid_sd = np.nan
     if fits:
-        low, low_mode = lower_of_two(*joint_and_brick(fits), inputs_of(ns, columns))
-        resid_sd = float(np.std(ns.strength_mpa - low, ddof=1))
-        rows.append(dict(mode="lower of two", n=len(ns), mape_pct=mape(ns.strength_mpa, low),
-                         mode_agreement=float(np.mean(low_mode == ns.failure_mode.to_numpy())),
+        low, low_mode = _lower(*(on_features(e, X) for e in joint_and_brick(fits)))
+        resid_sd = float(np.std(y - low, ddof=1))
+        rows.append(dict(mode="lower of two", n=len(y), mape_pct=mape(y, low), mode_agreement=float(np.mean(low_mode == mode)),
                          residual_sd_mpa=resid_sd,
                          equation="min(joint, brick)" if len(fits) == 2 else f"the {next(iter(fits))} equation alone"))
     return fits, rows, resid_sd
@@ -212,12 +235,13 @@ def equation_intervals(ns, terms, columns, resamples, seed, progress=None, jobs=
     from .statistics import bootstrap_interval
     samples = np.sort(ns["sample"].unique())
     by_sample = [np.flatnonzero(ns["sample"].to_numpy() == s) for s in samples]     # row positions
+    arrays = _arrays(ns, terms, columns)
     names = equation_terms(terms)
 
     def statistic(idx):
         blocks = [idx[k:k + block] for k in range(0, len(idx), block)]
         out, done = [], 0
-        for part in map_blocks(_refit_block, blocks, jobs, ns, by_sample, terms, columns, names):
+        for part in map_blocks(_refit_block, blocks, jobs, arrays, by_sample, terms, names):
             out.extend(part)
             done += len(part)
             if progress:
@@ -230,12 +254,13 @@ def equation_intervals(ns, terms, columns, resamples, seed, progress=None, jobs=
     return pd.DataFrame(rows + [dict(mode="lower of two", mape_pct_lo=lo[-1], mape_pct_hi=hi[-1])])
 
 
-def _refit_block(block, ns, by_sample, terms, columns, names):
-    """The statistics of equation_intervals for each resample of a block."""
+def _refit_block(block, arrays, by_sample, terms, names):
+    """The statistics of equation_intervals for each resample of a block
+    (``arrays``: the runs', ``_arrays``)."""
     out = []
     for idx in block:
-        resample = ns.iloc[np.concatenate([by_sample[i] for i in idx])]
-        _, rows, _ = prediction_equations(resample, terms, columns, nested=False)
+        rows = np.concatenate([by_sample[i] for i in idx])
+        _, rows, _ = _equations(*(a[rows] for a in arrays), terms, nested=False)
         rows = {r["mode"]: r for r in rows}
         out.append([rows.get(m, {}).get(t, np.nan) for m in ("joint", "brick") for t in names] +
                    [rows.get("lower of two", {}).get("mape_pct", np.nan)])

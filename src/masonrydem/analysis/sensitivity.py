@@ -318,7 +318,7 @@ def figure(table, path, level):
     labels = [_symbol(x) for x in inputs] + ["total index $S_T$", "first-order index $S_1$", "squared Pearson $r^2$"]
     fig.tight_layout(rect=(0, 0.7 / fig.get_figheight(), 1, 1))
     fig.legend(handles, labels, fontsize=10, loc="lower center", ncol=min(len(labels), 4), frameon=False)
-    save_figure(fig, path, dpi=100)
+    save_figure(fig, path)
 
 
 def _symbol(name):

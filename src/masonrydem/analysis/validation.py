@@ -64,7 +64,7 @@ def figure(table, curves, path):
         ax.text(0.98, 0.26, "no measured curve: none is available\nfor this wallette (docs/study.md, 5)",
                 transform=ax.transAxes, ha="right", va="bottom", fontsize=10, color="0.35")
     fig.tight_layout()
-    save_figure(fig, path, dpi=100)
+    save_figure(fig, path)
 
 
 def hard_cases_table(results, expect):
@@ -174,7 +174,7 @@ def specimen_figure(table, curves, path):
         ax.grid(alpha=0.3)
         ax.legend(fontsize=10)
     fig.tight_layout()
-    save_figure(fig, path, dpi=100)
+    save_figure(fig, path)
 
 
 # --- design rules (docs/study.md, 14) -------------------------------------------------

@@ -41,7 +41,7 @@ def axis_label(level):
 
 def save(fig, path):
     fig.tight_layout()
-    save_figure(fig, path, dpi=100)      # wider than the report shows it: its text at 10 pt reads at 9 px
+    save_figure(fig, path)
 
 
 def running_mean(runs, path, level):
@@ -342,7 +342,7 @@ def placeholder(text, path):
     fig, ax = plt.subplots(figsize=(8, 2))
     ax.axis("off")
     ax.text(0.5, 0.5, textwrap.fill(text, 90), ha="center", va="center")
-    save_figure(fig, path, dpi=100)
+    save_figure(fig, path)
 
 
 def paper_comparison(card, path):
