@@ -1,7 +1,7 @@
 """Solver speed on a wallette-sized model (24 bricks), one thread, for
 every unit model, and the start-up of a study job.
 
-    .venv/bin/python benchmarks/bench.py [--tiny] [--out results/bench/bench.json]
+    .venv/bin/python benchmarks/bench.py [--tiny] [--out results/bench/bench.json] [--only bootstrap]
 
 Prints one JSON line and writes it to ``--out`` (not with ``--tiny``):
 the machine (cpu, cores) and, per unit model (under "models"):
@@ -35,7 +35,8 @@ paper's model), its figures in brick failure, and
   bootstrap               the regression's bootstrap of the equations on
                           the committed runs: ms per resample on one
                           process and on two, and whether both agree
-The kernels are timed on realistic states: the wallette loaded past its
+``--only bootstrap`` measures that part alone and replaces it in ``--out``
+(the rest as measured before).  The kernels are timed on realistic states: the wallette loaded past its
 peak (joint failure: joints softening), and a strong-joint wallette past
 its peak (brick failure: zones or crack interfaces cracking).  ``--tiny``:
 the same on a wallette of 2 x 2 units of one cell each (two for the
@@ -317,12 +318,23 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--tiny", action="store_true", help="a wallette of 2 x 2 units, a few hundred steps")
     ap.add_argument("--out", type=Path, default=Path(__file__).resolve().parent.parent / "results/bench/bench.json")
+    ap.add_argument("--only", choices=sorted(PARTS), help="measure this part alone and replace it in --out")
     args = ap.parse_args()
+    if args.only:
+        out = json.loads(args.out.read_text())
+        out[args.only] = PARTS[args.only](args.tiny)
+        print(json.dumps(out[args.only]))
+        if not args.tiny:
+            args.out.write_text(json.dumps(out, indent=1) + "\n")
+        return
     out = measure(args.tiny)
     print(json.dumps(out))
     if not args.tiny:
         args.out.parent.mkdir(parents=True, exist_ok=True)
         args.out.write_text(json.dumps(out, indent=1) + "\n")
+
+
+PARTS = {"bootstrap": bootstrap_times}      # the parts --only measures alone
 
 
 def measure(tiny):

@@ -466,6 +466,46 @@ def test_where_a_run_s_time_goes():
     assert f"a 2-core x86-64 with {_width(t.cpu.iloc[0])}" in section and t.cores.iloc[0] == 2
 
 
+SCALE_PARTS = [("planning_s", "the start and the plan (s)"), ("batches_s", "the batches (s)"),
+               ("collect_s", "collect (s)"), ("analysis_s", "the analysis (s)"),
+               ("tail_s", "after the last job (s)"), ("report_s", "the report (s)")]
+
+
+def test_the_study_at_scale():
+    """docs/speed.md's table of the study at 1,000 and 10,000 runs is
+    results/bench/study_scale.csv (benchmarks/study_scale.py): each part's
+    seconds, the core-seconds a run, the peak memory; the ratios said of
+    it; and the Sobol table is study_scale_sobol.csv's."""
+    t = pd.read_csv(RESULTS / "bench/study_scale.csv").set_index("runs")
+    assert list(t.index) == [1000, 10000] and (t.cores_used == 2).all()
+    text = DOCS["docs/speed.md"]
+    rows = _table(text, "| part | 1,000 runs | 10,000 runs |")
+    assert [r[0].strip("*") for r in rows] == [name for _, name in SCALE_PARTS] + [
+        "all, core-seconds a run", "peak memory of a process (MB)"]
+    for (col, _), row in zip(SCALE_PARTS, rows):
+        assert row[1:] == [f"{t.loc[n, col]:.1f}" for n in t.index], row
+    assert [c.strip("*") for c in rows[-2][1:]] == [f"{t.loc[n, 'core_s_per_run']:.3f}" for n in t.index]
+    assert rows[-1][1:] == [f"{t.loc[n, 'peak_rss_mb']:.0f}" for n in t.index]
+    section = _flat(_section(text, "## The study at scale"))
+    assert f"a 2-core x86-64 with {_width(t.cpu.iloc[0])}" in section
+    ratio = t.loc[10000, "core_s_per_run"] / t.loc[1000, "core_s_per_run"]
+    assert f"{ratio:.2f} times the cost per run at 1,000" in section
+    for col in ("batches_s", "analysis_s"):
+        assert f"{t.loc[10000, col] / t.loc[1000, col]:.1f} times" in section, col
+    sobol = pd.read_csv(RESULTS / "bench/study_scale_sobol.csv")
+    rows = _table(text, "| σ<sub>v</sub> (MPa) | input |")
+    for row in rows:
+        for cell, n in zip(row[2:], (100, 1000)):
+            g = sobol[(sobol.samples == n) & (sobol.sigma_v_mpa == float(row[0])) & (sobol["input"] == row[1])]
+            x = g.iloc[0]
+            assert cell == f"{x.ST:.2f} ({x.ST_lo:.2f} to {x.ST_hi:.2f})", (row, cell)
+    assert len(rows) == 2 * sobol.sigma_v_mpa.nunique()
+    width = sobol.assign(w=sobol.ST_hi - sobol.ST_lo).pivot_table("w", ["sigma_v_mpa", "input"], "samples")
+    narrower = width[100] / width[1000]
+    assert (f"{narrower.min():.1f} to {narrower.max():.1f} times narrower ({narrower.median():.1f} the median over "
+            f"the four inputs and five levels)") in section
+
+
 def test_the_lanes_table():
     """docs/speed.md's table of the lanes and the ratios said of it are
     results/bench/bench.json's potential-crack model (benchmarks/bench.py)."""

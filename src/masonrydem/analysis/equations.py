@@ -205,8 +205,8 @@ def _equations(X, y, mode, sample, terms, nested):
     if fits:
         low, low_mode = _lower(*(on_features(e, X) for e in joint_and_brick(fits)))
         resid_sd = float(np.std(y - low, ddof=1))
-        rows.append(dict(mode="lower of two", n=len(y), mape_pct=mape(y, low), mode_agreement=float(np.mean(low_mode == mode)),
-                         residual_sd_mpa=resid_sd,
+        rows.append(dict(mode="lower of two", n=len(y), mape_pct=mape(y, low),
+                         mode_agreement=float(np.mean(low_mode == mode)), residual_sd_mpa=resid_sd,
                          equation="min(joint, brick)" if len(fits) == 2 else f"the {next(iter(fits))} equation alone"))
     return fits, rows, resid_sd
 
