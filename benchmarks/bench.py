@@ -36,9 +36,10 @@ paper's model), its figures in brick failure, and
                           the committed runs: ms per resample on one
                           process and on two, and whether both agree
 ``--only bootstrap`` measures that part alone and replaces it in ``--out``
-(the rest as measured before).  The kernels are timed on realistic states: the wallette loaded past its
-peak (joint failure: joints softening), and a strong-joint wallette past
-its peak (brick failure: zones or crack interfaces cracking).  ``--tiny``:
+(the rest as measured before).  The kernels are timed on realistic
+states: the wallette loaded past its peak (joint failure: joints
+softening), and a strong-joint wallette past its peak (brick failure:
+zones or crack interfaces cracking).  ``--tiny``:
 the same on a wallette of 2 x 2 units of one cell each (two for the
 potential-crack units), a few hundred steps (tests/test_bench.py runs it,
 so that the benchmark cannot break unnoticed).  docs/speed.md's table of
@@ -314,6 +315,9 @@ def bootstrap_times(tiny):
     return out
 
 
+PARTS = {"bootstrap": bootstrap_times}      # the parts --only measures alone
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--tiny", action="store_true", help="a wallette of 2 x 2 units, a few hundred steps")
@@ -332,9 +336,6 @@ def main():
     if not args.tiny:
         args.out.parent.mkdir(parents=True, exist_ok=True)
         args.out.write_text(json.dumps(out, indent=1) + "\n")
-
-
-PARTS = {"bootstrap": bootstrap_times}      # the parts --only measures alone
 
 
 def measure(tiny):

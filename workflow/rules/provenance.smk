@@ -202,4 +202,3 @@ def save_provenance():
     text = json.dumps(entries, indent=1, sort_keys=True) + "\n"
     if not Path(PROVENANCE).is_file() or Path(PROVENANCE).read_text() != text:
         Path(PROVENANCE).write_text(text)
-
