@@ -48,22 +48,21 @@ END = re.compile(r"^Finished jobid: \d+ \(Rule: (\w+)\)$")
 
 
 def job_times(log):
-    """[(rule, 'start'|'end', seconds since the epoch)] of a Snakemake log."""
+    """[(rule, seconds since the epoch)] of each job's start and end in a
+    Snakemake log."""
     out, at = [], None
     for line in log.splitlines():
         line = line.strip()
         if m := STAMP.match(line):
             at = datetime.datetime.strptime(m.group(1), "%a %b %d %H:%M:%S %Y").timestamp()
-        elif (m := START.match(line)) and at is not None:
-            out.append((m.group(1), "start", at))
-        elif (m := END.match(line)) and at is not None:
-            out.append((m.group(1), "end", at))
+        elif (m := START.match(line) or END.match(line)) and at is not None:
+            out.append((m.group(1), at))
     return out
 
 
 def run(args, log):
-    """Run ``args`` in the repository, its output to ``log``: (wall s, the
-    tree's peak resident memory in MB, the output)."""
+    """Run ``args`` in the repository, its output to ``log``: (its start,
+    its wall s, the tree's peak resident memory in MB, the output)."""
     t0 = time.time()
     with open(log, "w") as f:
         p = subprocess.Popen(args, cwd=ROOT, stdout=f, stderr=subprocess.STDOUT)
@@ -87,14 +86,14 @@ def study(samples, cores):
     configs = ["--configfile", "config/config.yaml", str(config.relative_to(ROOT))]
     t0, wall, rss, log = run([snakemake, "--cores", str(cores), *configs, "--", "study"], out / "study.log")
     jobs = job_times(log)
-    sims = [t for r, _, t in jobs if r.startswith("simulate")]
-    collect = [t for r, _, t in jobs if r == "collect"]
-    last = max(t for _, _, t in jobs)
-    t1, report, rss_report, _ = run([snakemake, "--report", f"scale/{samples}/report.zip", *configs, "--", "study"],
+    sims = [t for r, t in jobs if r.startswith("simulate")]
+    collect = [t for r, t in jobs if r == "collect"]
+    last = max(t for _, t in jobs)
+    _, report, rss_report, _ = run([snakemake, "--report", f"scale/{samples}/report.zip", *configs, "--", "study"],
                                     out / "report.log")
     runs = pd.read_parquet(out / "study" / "runs.parquet")
     row = dict(samples=samples, runs=len(runs), ok=int(runs.ok.sum()), wall_s=round(wall, 1),
-               planning_s=round(min(t for _, _, t in jobs) - t0, 1), batches_s=round(max(sims) - min(sims), 1),
+               planning_s=round(min(t for _, t in jobs) - t0, 1), batches_s=round(max(sims) - min(sims), 1),
                collect_s=round(max(collect) - min(collect), 1), analysis_s=round(last - max(collect), 1),
                tail_s=round(t0 + wall - last, 1), report_s=round(report, 1), peak_rss_mb=round(max(rss, rss_report)),
                core_s_per_run=round(wall * cores / len(runs), 3), **machine(), cores_used=cores,
