@@ -1132,6 +1132,19 @@ def test_the_paper_side_by_side_as_quoted():
             f"({b.ours.iloc[0]:.2f} against {b.paper.iloc[0]:.2f} kN at 0 MPa)") in FINDINGS
 
 
+def test_the_sobol_method_as_described():
+    """docs/study.md 12a's base points, posterior draws, random features and
+    the runs the process's parameters are fitted to at most, against
+    analysis/sensitivity.py's constants."""
+    from masonrydem.analysis import sensitivity as S
+    text = _flat(_section(DOCS["docs/study.md"], "## 12a."))
+    _numbers_as(text, rf"Sobol sequence with {NUMBER} base points", [S.N_BASE])
+    _numbers_as(text, rf"{NUMBER} functions drawn from the process's posterior \(a prior draw by {NUMBER} random "
+                      rf"Fourier features", [S.DRAWS, S.FEATURES])
+    _numbers_as(text, rf"Where a group has more than {NUMBER} runs, the kernel's parameters are fitted to {NUMBER} of "
+                      rf"them", [S.FIT_RUNS, S.FIT_RUNS])
+
+
 def test_the_sobol_indices_as_quoted():
     """docs/findings.md's reading of the study's Sobol indices
     (results/study/sensitivity.csv, the non-spatial variant, all modes):

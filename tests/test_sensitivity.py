@@ -239,16 +239,17 @@ def binomial_floor(trials, p=S.CONFIDENCE, tail=1e-3):
     return int(stats.binom.ppf(tail, trials, p))
 
 
-def coverage(variables, correlations, scale, f, runs, seeds, exact):
+def coverage(variables, correlations, scale, f, runs, seeds, exact, fit_runs=S.FIT_RUNS):
     """Per index (S1, ST) and input, in how many of ``seeds`` sets of
     ``runs`` Latin Hypercube runs (the study's sampling) the interval
-    holds the exact value; and the runs' no-effect calls."""
+    holds the exact value, the process's parameters fitted to at most
+    ``fit_runs`` of them; and the runs' no-effect calls."""
     to_inputs = S.input_map(variables, correlations, scale)
     points, hits, null = S.sobol_points(len(variables)), np.zeros((2, len(variables)), int), []
     for seed in range(seeds):
         d, _ = lhs(runs, variables, correlations, 100 + seed)
         x = np.column_stack([d[v.name] for v in variables])
-        res = S.group_indices(x, f(x), points, to_inputs, draws=100, seed=seed)
+        res = S.group_indices(x, f(x), points, to_inputs, draws=100, seed=seed, fit_runs=fit_runs)
         for k, s in enumerate(("S1", "ST")):
             hits[k] += (res[f"{s}_lo"] <= exact[k] + 1e-9) & (exact[k] - 1e-9 <= res[f"{s}_hi"])
         null.append(res["no_effect"])
@@ -272,6 +273,58 @@ def test_the_lower_of_two_linear_strengths_over_the_studys_inputs():
     assert (hits >= floor).all(), (hits, floor)
     assert hits[:, :2].sum() >= binomial_floor(4 * SEEDS), hits
     assert not null[:, :2].any() and null[:, 3].sum() >= floor, null
+
+
+def test_parameters_fitted_to_a_subset_keep_the_coverage_on_all_the_runs():
+    """As the test above with 400 runs, the process's parameters fitted to
+    100 of them and the process then conditioned on all 400 (a study with
+    more runs than sensitivity.FIT_RUNS in a group): the intervals, now
+    from four times the runs, still hold the brute-force indices in as
+    many of 20 seeds as 95 % coverage allows, and E_b's hold 0."""
+    to_inputs = S.input_map(STUDY, STUDY_CORR, STUDY_SCALE)
+    exact = np.array(brute_force(lower_of_two, to_inputs, 4))
+    hits, null = coverage(STUDY, STUDY_CORR, STUDY_SCALE, lower_of_two, 400, SEEDS, exact, fit_runs=100)
+    floor = binomial_floor(SEEDS)
+    assert (hits >= floor).all(), (hits, floor)
+    assert hits[:, :2].sum() >= binomial_floor(4 * SEEDS), hits
+    assert not null[:, :2].any() and null[:, 3].sum() >= floor, null
+
+
+def test_the_subset_is_seeded_and_the_conditioned_process_is_the_closed_form():
+    """fit_subset: every run up to fit_runs, else fit_runs distinct runs in
+    their order, the same for a seed.  condition: the posterior mean at
+    new points is the closed form written here with numpy (prior mean
+    the runs' mean, Matern 5/2 by scipy's distances, the amplitude and
+    noise of the subset's fit in the strength's units), for a process
+    fitted to 60 of 150 noisy runs; and so its posterior covariance, which
+    the rescaling decides (the mean depends only on the noise's ratio to the
+    amplitude)."""
+    from scipy.spatial.distance import cdist
+    assert S.fit_subset(150, 150) == slice(None)
+    sub = S.fit_subset(150, 60, seed=3)
+    assert len(np.unique(sub)) == 60 and (np.diff(sub) > 0).all() and sub.max() < 150
+    np.testing.assert_array_equal(sub, S.fit_subset(150, 60, seed=3))
+    assert not np.array_equal(sub, S.fit_subset(150, 60, seed=4))
+    to_inputs = S.input_map(UNIFORMS, {}, SCALE)
+    x, y = runs_of(to_inputs, lambda x: np.sin(3 * x[:, 0]) + x[:, 1] ** 2, 150, 0.05, 2)
+    w = to_inputs.scores(x)
+    fitted = S.fit_process(w[sub], y[sub], 0)
+    gp = S.condition(fitted, w, y)
+    k = fitted.kernel_
+    amp, noise = (np.array([k.k1.k1.constant_value, k.k2.noise_level]) * fitted._y_train_std ** 2)
+    ls = k.k1.k2.length_scale
+
+    def matern(a, b):
+        r = np.sqrt(5) * cdist(a / ls, b / ls)
+        return amp * (1 + r + r ** 2 / 3) * np.exp(-r)
+    at = np.random.default_rng(9).standard_normal((7, 4))
+    k_inv = np.linalg.inv(matern(w, w) + noise * np.eye(len(y)))
+    mean = y.mean() + matern(at, w) @ k_inv @ (y - y.mean())
+    cov = matern(at, at) + noise * np.eye(len(at)) - matern(at, w) @ k_inv @ matern(w, at)
+    got_mean, got_cov = gp.predict(at, return_cov=True)
+    np.testing.assert_allclose(got_mean, mean, rtol=1e-8, atol=1e-10)
+    np.testing.assert_allclose(got_cov, cov, rtol=1e-6, atol=1e-10 * amp)
+    assert len(gp.X_train_) == 150
 
 
 def ishigami(x, a=7.0, b=0.1):

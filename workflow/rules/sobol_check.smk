@@ -55,22 +55,40 @@ if SOBOL:
             shell:
                 RUN_BATCH
 
-    rule sobol_check_indices:
-        """The direct indices and their intervals beside the study's."""
+    rule sobol_check_collect:
+        """The check's runs in one table and their batches' cost: what the
+        indices read, so that a change of the study's indices reruns the
+        comparison alone (the runs are not kept in a clone)."""
         input:
             results=get_sobol_check_runs("result"),
             benchmarks=[f"{R}/sobol_check/benchmarks/b{k}.tsv" for k in range(len(SOBOL_BATCHES))],
+        output:
+            runs=f"{R}/sobol_check/runs.parquet",
+            timing=f"{R}/sobol_check/timing.csv",
+        params:
+            code=get_code("sobol_check_collect"),
+            simulations=get_runs(lambda w: get_level_sets(SOBOL["level_dir"]), [{}], get_study_draw(),
+                                 repr({k: SOBOL[k] for k in ("base", "seed")}), scene=get_study_scene()),
+            base=SOBOL["base"],
+        log:
+            f"{R}/logs/sobol_check/collect.log",
+        conda:
+            ENV
+        script:
+            "../scripts/sobol_check_collect.py"
+
+    rule sobol_check_indices:
+        """The direct indices and their intervals beside the study's."""
+        input:
+            runs=f"{R}/sobol_check/runs.parquet",
+            timing=f"{R}/sobol_check/timing.csv",
             sensitivity=f"{R}/study/sensitivity.csv",
             template=get_template("sobol_check"),
         output:
-            runs=f"{R}/sobol_check/runs.parquet",
             table=f"{R}/sobol_check/check.csv",
-            timing=f"{R}/sobol_check/timing.csv",
             caption=get_caption_file("sobol_check"),
         params:
             code=get_code("sobol_check"),
-            simulations=get_runs(lambda w: get_level_sets(SOBOL["level_dir"]), [{}], get_study_draw(),
-                                 repr({k: SOBOL[k] for k in ("base", "seed")}), scene=get_study_scene()),
             check=SOBOL,
             analysis=plan.analysis(config),
         log:

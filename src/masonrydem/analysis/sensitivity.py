@@ -17,10 +17,12 @@ Method:
    of the values of 0.49 for 0.5.
 2. **Gaussian process.** A Gaussian process regression of the strength on
    the runs' scores (scikit-learn): a Matern 5/2 kernel with a length scale
-   per input, plus white noise, its parameters by maximum likelihood.  Its
-   leave-one-out R^2 (cv_r2) and the share of the strength's variance it
-   gives to noise (noise_share) are reported; the indices are shares of
-   the rest.  Below MIN_R2 the inputs do not explain the strength (a
+   per input, plus white noise, its parameters by maximum likelihood on at
+   most FIT_RUNS of the runs (a seeded subset: the likelihood's cost grows
+   with the cube of the runs, and its seven parameters are settled long
+   before), then conditioned on all of them.  Its leave-one-out R^2 (cv_r2)
+   and the share of the strength's variance it gives to noise
+   (noise_share) are reported; the indices are shares of the rest.  Below MIN_R2 the inputs do not explain the strength (a
    variant that draws per unit or joint, whose strength follows the field
    of unit and joint values, not the recorded field means), and no index
    is given.
@@ -48,7 +50,8 @@ Method:
    at its bound: the 50:50 mixture of chi2 with 0 and 1 degrees of freedom,
    at 1 - CONFIDENCE).  Where it cannot tell the input's effect from none,
    its intervals start at 0 (the test inverted): every posterior draw gives
-   an input a total index above 0, also one without any effect.
+   an input a total index above 0, also one without any effect.  The test
+   is on the runs the parameters were fitted to.
 
 The indices of one failure mode are those of that mode's strength law, the
 process fitted to its runs and evaluated over the whole input range,
@@ -67,6 +70,7 @@ DRAWS = 200
 FEATURES = 1000
 CONFIDENCE = 0.95
 MIN_R2 = 0.5
+FIT_RUNS = 200
 
 
 def input_map(variables, correlations, scale):
@@ -100,6 +104,30 @@ def fit_process(w, y, seed=0, kernel=None, restarts=2):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         return gp.fit(w, y)
+
+
+def fit_subset(runs, fit_runs=FIT_RUNS, seed=0):
+    """The runs the process's parameters are fitted to (module docstring,
+    2): all (a slice) up to ``fit_runs``, else ``fit_runs`` of them drawn
+    without replacement from ``seed``, in their order."""
+    if runs <= fit_runs:
+        return slice(None)
+    return np.sort(np.random.default_rng(seed).choice(runs, fit_runs, replace=False))
+
+
+def condition(gp, w, y):
+    """The process with gp's fitted parameters conditioned on the runs (w,
+    y), its parameters not refitted: the amplitude and noise, which hold in
+    units of the strength's variance over gp's runs, rescaled to that over
+    these."""
+    import warnings
+    from sklearn.exceptions import ConvergenceWarning
+    from sklearn.gaussian_process import GaussianProcessRegressor
+    k, scale = gp.kernel_, (gp._y_train_std / np.std(y)) ** 2
+    kernel = _kernel(k.k1.k1.constant_value * scale, k.k1.k2.length_scale, k.k2.noise_level * scale)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        return GaussianProcessRegressor(kernel, normalize_y=True, optimizer=None).fit(w, y)
 
 
 def fit_quality(gp, y):
@@ -189,22 +217,24 @@ def interval(estimate, draws, no_effect=False):
     return np.where(no_effect, 0.0, np.clip(lo, 0.0, 1.0)), np.clip(hi, 0.0, 1.0)
 
 
-def group_indices(x, y, points, to_inputs, n=N_BASE, draws=DRAWS, seed=0):
+def group_indices(x, y, points, to_inputs, n=N_BASE, draws=DRAWS, seed=0, fit_runs=FIT_RUNS):
     """The indices of one group's runs (x: n_runs x d inputs, y: strength):
     dict of surrogate, cv_r2, noise_share and, where the process explains
     the strength, S1, ST (arrays), their intervals S1_lo ... ST_hi and
-    no_effect (module docstring).  On one thread of linear algebra (a
-    process per job, as a rule's threads say: two threads beside another
-    busy process took six times as long)."""
+    no_effect (module docstring), the parameters fitted to at most
+    ``fit_runs`` runs.  On one thread of linear algebra (a process per job,
+    as a rule's threads say: two threads beside another busy process took
+    six times as long)."""
     from threadpoolctl import threadpool_limits
     with threadpool_limits(1):
-        return _group_indices(x, y, points, to_inputs, n, draws, seed)
+        return _group_indices(x, y, points, to_inputs, n, draws, seed, fit_runs)
 
 
-def _group_indices(x, y, points, to_inputs, n, draws, seed):
+def _group_indices(x, y, points, to_inputs, n, draws, seed, fit_runs):
     """group_indices' work."""
-    w = to_inputs.scores(x)
-    gp = fit_process(w, y, seed)
+    w, sub = to_inputs.scores(x), fit_subset(len(y), fit_runs, seed)
+    fitted = fit_process(w[sub], y[sub], seed)
+    gp = fitted if isinstance(sub, slice) else condition(fitted, w, y)
     r2, noise = fit_quality(gp, y)
     out = dict(surrogate="gaussian process", cv_r2=r2, noise_share=noise)
     if r2 < MIN_R2:
@@ -212,7 +242,7 @@ def _group_indices(x, y, points, to_inputs, n, draws, seed):
     d, at = x.shape[1], stats.norm.ppf(np.clip(points, CLIP, 1 - CLIP))
     s1, st = indices(posterior_draws(gp, at, draws, seed), d, n)        # column 0: the mean
     out["S1"], out["ST"] = s1[:, 0], st[:, 0]
-    null = no_effect(gp, w, y)
+    null = no_effect(fitted, w[sub], y[sub])
     lo, hi = interval(np.array([s1[:, 0], st[:, 0]]), np.array([s1[:, 1:], st[:, 1:]]), null)
     out.update(S1_lo=lo[0], S1_hi=hi[0], ST_lo=lo[1], ST_hi=hi[1], no_effect=null)
     return out

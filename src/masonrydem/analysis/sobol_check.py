@@ -88,10 +88,11 @@ def verdict(table):
     return head + ("" if not outside else "; outside: " + "; ".join(outside))
 
 
-def caption_values(table, direct, runs, check, level, study_rows, batch_seconds):
-    """The check's caption's numbers: what was run and how long it took,
-    one line per input (the direct and the study's indices with their
-    intervals) and the verdict."""
+def caption_values(table, direct, runs, check, level, study_rows, batches, core_s):
+    """The check's caption's numbers: what was run and how long it took
+    (its ``batches`` jobs, ``core_s`` seconds of one core in all), one line
+    per input (the direct and the study's indices with their intervals)
+    and the verdict."""
     def pair(r, s):
         study = (f"study {r[f'{s}_study']:.3f} ({r[f'{s}_study_lo']:.3f} to {r[f'{s}_study_hi']:.3f})"
                  if r[f"{s}_study"] == r[f"{s}_study"] else "no study index")
@@ -101,5 +102,5 @@ def caption_values(table, direct, runs, check, level, study_rows, batch_seconds)
                 base=check["base"], runs=len(runs), failed=int((~runs.ok.astype(bool)).sum()), rows=direct["rows"],
                 left_out=direct["left_out"], resamples=check["resamples"],
                 study_runs=int(study_rows.runs.iloc[0]) if len(study_rows) else 0,
-                minutes=f"{sum(batch_seconds) / 60:.1f}", batches=len(batch_seconds),
+                minutes=f"{core_s / 60:.1f}", batches=batches,
                 lines="\n".join(f"- {x}" for x in lines), verdict=verdict(table))
