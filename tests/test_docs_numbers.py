@@ -492,6 +492,10 @@ def test_the_study_at_scale():
     assert f"{ratio:.2f} times the cost per run at 1,000" in section
     for col in ("batches_s", "analysis_s"):
         assert f"{t.loc[10000, col] / t.loc[1000, col]:.1f} times" in section, col
+    grows = {col: t.loc[10000, col] / t.loc[1000, col] for col, _ in SCALE_PARTS if col != "batches_s"}
+    assert "every other part less than five times as long" in section and max(grows.values()) < 5, grows
+    assert ("No part grows faster than the runs" in section
+            and max(t.loc[10000, col] / t.loc[1000, col] for col, _ in SCALE_PARTS) <= 10)
     sobol = pd.read_csv(RESULTS / "bench/study_scale_sobol.csv")
     rows = _table(text, "| σ<sub>v</sub> (MPa) | input |")
     for row in rows:

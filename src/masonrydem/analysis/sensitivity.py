@@ -22,10 +22,10 @@ Method:
    with the cube of the runs, and its seven parameters are settled long
    before), then conditioned on all of them.  Its leave-one-out R^2 (cv_r2)
    and the share of the strength's variance it gives to noise
-   (noise_share) are reported; the indices are shares of the rest.  Below MIN_R2 the inputs do not explain the strength (a
-   variant that draws per unit or joint, whose strength follows the field
-   of unit and joint values, not the recorded field means), and no index
-   is given.
+   (noise_share) are reported; the indices are shares of the rest.  Below
+   MIN_R2 the inputs do not explain the strength (a variant that draws per
+   unit or joint, whose strength follows the field of unit and joint
+   values, not the recorded field means), and no index is given.
 3. **Indices.** First-order S1 and total ST of the process's posterior mean
    over the study's input distribution, by SALib's Sobol sequence in the
    scores (Saltelli's scheme, N_BASE base points) and its estimators
