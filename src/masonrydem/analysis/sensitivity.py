@@ -19,7 +19,7 @@ Method:
    the runs' scores (scikit-learn): a Matern 5/2 kernel with a length scale
    per input, plus white noise, its parameters by maximum likelihood on at
    most FIT_RUNS of the runs (a seeded subset: the likelihood's cost grows
-   with the cube of the runs, and its seven parameters are settled long
+   with the cube of the runs, and its few parameters are settled long
    before), then conditioned on all of them.  Its leave-one-out R^2 (cv_r2)
    and the share of the strength's variance it gives to noise
    (noise_share) are reported; the indices are shares of the rest.  Below
