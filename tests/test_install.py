@@ -33,10 +33,17 @@ def test_every_dependency_is_pinned_inside_its_range():
         assert req.specifier.contains(pins[name], prereleases=True), (req, pins[name])
 
 
-def test_the_makefile_installs_under_the_pins():
+def test_the_makefile_and_the_conda_environment_install_under_the_pins():
+    """`make install`, and `--sdm conda`'s environment (its pip runs in
+    workflow/envs/ or beside Snakemake's copy of the file, .snakemake/conda/:
+    two levels below the root, as the package's own ../.. assumes)."""
     text = (ROOT / "Makefile").read_text()
     assert "CONSTRAINTS := workflow/envs/constraints.txt" in text
     assert "pip install --quiet -e '.[test]' -c $(CONSTRAINTS)" in text
+    import yaml
+    env = yaml.safe_load((ROOT / "workflow/envs/masonrydem.yaml").read_text())
+    pip = next(d["pip"] for d in env["dependencies"] if isinstance(d, dict))
+    assert "-e ../.." in pip and "-c ../../workflow/envs/constraints.txt" in pip
 
 
 def test_this_environment_has_the_pinned_versions():
