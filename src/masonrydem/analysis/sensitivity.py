@@ -91,16 +91,18 @@ def _kernel(amplitude, length_scales, noise):
             + WhiteKernel(noise, (1e-8, 1.0)))
 
 
-def fit_process(w, y, seed=0, kernel=None, restarts=2):
+def fit_process(w, y, seed=0, kernel=None, restarts=2, optimize=True):
     """The Gaussian process of y on the scores w (scikit-learn, fitted;
-    ``kernel`` the starting one).  A length scale or the noise at its bound
-    (an input without effect, runs without noise) is an answer, not a
-    failure: scikit-learn's warning of it is kept quiet."""
+    ``kernel`` the starting one, or the one kept where not ``optimize``).
+    A length scale or the noise at its bound (an input without effect, runs
+    without noise) is an answer, not a failure: scikit-learn's warning of
+    it is kept quiet."""
     import warnings
     from sklearn.exceptions import ConvergenceWarning
     from sklearn.gaussian_process import GaussianProcessRegressor
     gp = GaussianProcessRegressor(kernel or _kernel(1.0, np.ones(w.shape[1]), 1e-2), normalize_y=True,
-                                  n_restarts_optimizer=restarts, random_state=seed)
+                                  n_restarts_optimizer=restarts, random_state=seed,
+                                  optimizer="fmin_l_bfgs_b" if optimize else None)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         return gp.fit(w, y)
@@ -120,14 +122,9 @@ def condition(gp, w, y):
     y), its parameters not refitted: the amplitude and noise, which hold in
     units of the strength's variance over gp's runs, rescaled to that over
     these."""
-    import warnings
-    from sklearn.exceptions import ConvergenceWarning
-    from sklearn.gaussian_process import GaussianProcessRegressor
     k, scale = gp.kernel_, (gp._y_train_std / np.std(y)) ** 2
     kernel = _kernel(k.k1.k1.constant_value * scale, k.k1.k2.length_scale, k.k2.noise_level * scale)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        return GaussianProcessRegressor(kernel, normalize_y=True, optimizer=None).fit(w, y)
+    return fit_process(w, y, kernel=kernel, optimize=False)
 
 
 def fit_quality(gp, y):
