@@ -85,3 +85,36 @@ def test_numba_is_in_the_range_whose_private_interface_the_package_reads():
     src = Path(__file__).parents[1] / "src" / "masonrydem"
     readers = {p.relative_to(src).as_posix() for p in src.rglob("*.py") if "caching" in p.read_text()}
     assert readers == {"dem/kernels/jit.py"}, readers
+
+
+def test_an_empty_or_one_row_sub_contact_set_takes_the_kernel_of_a_full_one():
+    """contacts.SubContacts.pack and the batches make a sub-contact set's
+    2-D arrays Fortran-ordered.  With no row or one they are C-contiguous
+    as well, and numba's typeof calls such an array C: a model with no
+    bearings would compile a step kernel of its own.  A small wallette's
+    step kernel, its bearings replaced by an empty set and by a set of one
+    sub-contact (each array as pack makes it), is the same compiled
+    function as with its own bearings."""
+    import numpy as np
+
+    from masonrydem.dem import init
+    from masonrydem.dem.kernels.layout import CONTACTS_FORTRAN
+    from masonrydem.dem.kernels.step import specialised
+    from masonrydem.scene import build_scene
+    from masonrydem.specimen.build import build
+
+    sp = build(build_scene("config/scenes/willis.yaml", [
+        "geometry.courses=2", "geometry.units_per_course=2", "numerics.cells=[1, 1, 1]",
+        "loading.bending.supports_x=[0.1, 0.5]", "loading.bending.loads_x=[0.25, 0.35]"]))
+    args = init(sp.assembly, sp.numerics).batch.args(0)
+    full = args[12]
+    assert full.area.shape[0] > 1 and full.par.flags.f_contiguous and not full.par.flags.c_contiguous
+
+    def cut(rows):
+        return full._replace(**{f: np.asfortranarray(a[:rows]) if f in CONTACTS_FORTRAN else a[:rows]
+                                for f, a in full._asdict().items() if a.shape[0] == full.area.shape[0]})
+    kernel = specialised(args)
+    for rows in (0, 1):
+        sc = cut(rows)
+        assert sc.par.flags.c_contiguous and sc.par.flags.f_contiguous
+        assert specialised(args[:12] + (sc,) + args[13:]) is kernel, rows

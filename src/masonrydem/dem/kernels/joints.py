@@ -14,6 +14,10 @@ from .linalg import add_force, body_vec
 from .static import choose
 
 _INLINE = dict(cache=True, inline="always", error_model="numpy")
+# a law's sub-contact kernel is a function of its own, compiled (and cached)
+# once for each law and block kind and shared by every step kernel that
+# uses them (numba would copy an inline="always" one into each)
+_CALL = dict(cache=True, error_model="numpy")
 
 
 @njit(**_INLINE)
@@ -79,7 +83,7 @@ def traction_force(s, js, area, nx, ny, nz, ax, ay, az, bx, by, bz):
             ar * (sn * nz + s1 * az + s2 * bz))
 
 
-@njit(**_INLINE)
+@njit(**_CALL)
 def _deformable_contacts(jlaw, dt, nodes, sc):
     """Deformable blocks: the sub-contact's point moves with the nodes of
     each side, interpolated with the weights w[s]; its force is spread with
@@ -149,7 +153,7 @@ def gather_forces(f, gptr, gs, gw, force):
         f[i, 2] = fz
 
 
-@njit(**_INLINE)
+@njit(**_CALL)
 def _rigid_contacts(jlaw, large, dt, nodes, bodies, sc):
     """Rigid blocks: sub-contact s joins bodies A = body[s, 0] and
     B = body[s, 1] at the point with body-frame levers lever[s, 0] and

@@ -148,6 +148,9 @@ class Contacts(NamedTuple):
     gw: np.ndarray      # ... and their signed weights
 
 
+CONTACTS_FORTRAN = ("axes", "par", "state", "force")     # the Contacts fields that are Fortran-ordered
+
+
 class Bodies(NamedTuple):
     """Rotations of rigid bodies (rows as Nodes) and their point loads."""
     R: np.ndarray           # (n, 3, 3, S) orientation, body to global

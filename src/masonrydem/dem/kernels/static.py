@@ -14,8 +14,8 @@ from numba.core.errors import TypingError
 
 def literal(key, what):
     """The literal value of the numba type ``key``; refused (at compile
-    time) unless ``key`` is a literal (an argument specialised with
-    numba.literally, or a constant)."""
+    time) unless ``key`` is a literal (an argument that step.specialised
+    compiles as one, or a constant)."""
     if not isinstance(key, types.Literal):
         raise TypingError(f"{what} must be a compile-time literal, got {key}")
     return key.literal_value

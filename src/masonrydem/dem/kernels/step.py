@@ -5,27 +5,28 @@ non-viscous damping (Itasca FLAC3D/3DEC), for deformable and rigid blocks.
     v(t+dt/2) = v(t-dt/2) + dt/m (F - alpha |F| sgn(v(t-dt/2))),
     u(t+dt)   = u(t) + dt v(t+dt/2)                   (per component)
 
-``run_chunk`` advances every lane of a batch (kernels/layout.py): a batch
-of one runs the kernels of one simulation (``_one_lane``: cells.py,
-joints.py, zones.py and advance.py), a wider one those of
-lanes.py, eight lanes at a time, with the zones and rigid blocks lane by
-lane on each lane's views.  ``run_chunk_entry`` specialises ``run_chunk``
-on literal law ids, flags and lanes (zone law, joint law, rigid blocks,
-large displacements, gravity, the batch's width), so a model compiles and
-runs only the laws and effects it declares, and the on-disk cache keeps
-one entry per combination actually used.
+``specialised`` gives the kernel that advances every lane of a batch
+(kernels/layout.py): a batch of one runs the kernels of one simulation
+(``_one_lane``: cells.py, joints.py, zones.py and advance.py), a wider
+one those of lanes.py, eight lanes at a time, with the zones and rigid
+blocks lane by lane on each lane's views.  Each is compiled for literal
+law ids, flags and lanes (zone law, joint law, rigid blocks, large
+displacements, gravity, the batch's width), so a model compiles and runs
+only the laws and effects it declares, and the on-disk cache keeps one
+entry per combination actually used.
 """
 import math
 
-from numba import literally, njit, typeof
+from numba import njit, typeof, types
 from numba.extending import overload
 
 from . import lanes as L
 from .advance import advance_bodies, advance_nodes, point_loads
 from .cells import cell_forces
 from .joints import contact_forces
-from .layout import H_KE, H_MON, H_RATIO, H_STEP, JOINT_BEARING, ST_NONFINITE, ST_OK, Bodies, Cells, Contacts, Nodes, Zones
-from .static import choose, literal
+from .layout import (CONTACTS_FORTRAN, H_KE, H_MON, H_RATIO, H_STEP, JOINT_BEARING, ST_NONFINITE, ST_OK, Bodies, Cells,
+                     Contacts, Nodes, Zones)
+from .static import choose
 from .zones import zone_forces
 
 _CACHE = dict(cache=True, nogil=True, error_model="numpy")
@@ -130,11 +131,11 @@ def _one(nodes, zones, cells, joints, bearings, bodies):
                    bodies.fl.reshape(nb, 3), bodies.load_body, bodies.load_lever, bodies.load_force.reshape(nk, 3)))
 
 
-@njit(**_INLINE)
+@njit(**_CACHE)
 def _one_lane(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
               hist, work, scratch):
-    """A batch of one (``nl`` 1): the steps of one simulation (module
-    docstring)."""
+    """A batch of one (``nl`` 1): the steps of one simulation
+    (``specialised``)."""
     nodes, zones, cells, joints, bearings, bodies = _one(nodes, zones, cells, joints, bearings, bodies)
     hist = hist.reshape(hist.shape[0], hist.shape[1])
     work = work.reshape(2)
@@ -213,10 +214,10 @@ def _lanes_forward(rigid, zlaw, jlaw, large, gon, grav, vf, alpha, ctl, nodes, z
                               bodies, scratch, nl))
 
 
-@njit(**_INLINE)
+@njit(**_CACHE)
 def _lanes(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist,
            work, scratch):
-    """A batch of 8, 16, ... lanes (module docstring)."""
+    """A batch of 8, 16, ... lanes (``specialised``)."""
     f = nodes.f
     alpha, grav = ctl.alpha, ctl.gravity
     sums, vf = scratch.sums, scratch.vf
@@ -237,26 +238,30 @@ def _lanes(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, 
     return ST_OK, nsteps
 
 
-def lanes_steps(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
-                hist, work, scratch):
-    """The steps of a batch of one or of 8, 16, ... lanes (``nl`` a
-    literal: static.py; a branch on it would type both)."""
-    raise TypeError("lanes_steps: only callable from compiled code")
+LITERALS = 6        # the leading arguments that are literals
 
 
-@overload(lanes_steps, prefer_literal=True)
-def _lanes_steps(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
-                 hist, work, scratch):
-    impl = _one_lane if literal(nl, "the lanes") == 1 else _lanes
-    return (lambda zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
-            hist, work, scratch: impl(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints,
-                                      bearings, bodies, mon, hist, work, scratch))
+def _argument_type(x):
+    """numba's type of a kernel argument, but that a sub-contact set's
+    Fortran-ordered arrays (layout.CONTACTS_FORTRAN) are Fortran arrays
+    also where they are C-contiguous as well (no row or one, which
+    numba's typeof calls C), so that a model with an empty set compiles to
+    the same specialisation as one with sub-contacts."""
+    if isinstance(x, Contacts):
+        return types.BaseTuple.from_types(
+            [typeof(a).copy(layout="F") if f in CONTACTS_FORTRAN and a.flags.f_contiguous else typeof(a)
+             for f, a in zip(x._fields, x)], Contacts)
+    return typeof(x)
 
 
-@njit(**_CACHE)
-def run_chunk(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist,
-              work, scratch):
-    """Advances every lane ``nsteps`` steps (module docstring).
+def specialised(args):
+    """The step kernel for ``args``, its arguments (zlaw, jlaw, rigid,
+    large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings,
+    bodies, mon, hist, work, scratch), compiled for their literal law ids,
+    flags and lanes (the first ``LITERALS``) and their types, or loaded
+    from the on-disk cache: a function that takes the same arguments and
+    advances every lane ``nsteps`` steps, a batch of one by ``_one_lane``,
+    a wider one by ``_lanes``.  Resolved once, it runs at once.
 
     Constrained components take their prescribed velocity times the
     velocity factor min(1, vf0 + (step + 1) dvf), step counted from the
@@ -267,39 +272,11 @@ def run_chunk(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cell
     components).  ``work[0, b]`` accumulates the work done on lane b's
     model (``work[1, b]``: its largest value so far): reactions times the
     prescribed velocities and applied forces times the free velocities.
-    Returns (status, steps done); status ST_NONFINITE stops every lane
-    after the first step at which a lane's kinetic energy or force ratio
-    is not finite (the caller tells which from the history).  ``nl``: the
-    lanes, a literal, 1 or a multiple of 8."""
-    return lanes_steps(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies,
-                       mon, hist, work, scratch)
-
-
-@njit(**_CACHE)
-def run_chunk_entry(zlaw, jlaw, rigid, large, gon, nl, nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon,
-                    hist, work, scratch):
-    """Entry point: ``run_chunk`` specialised on the literal law ids, flags
-    and lanes, so only the laws and effects a model uses are compiled (and
-    cached), for the batch's width."""
-    return run_chunk(literally(zlaw), literally(jlaw), literally(rigid), literally(large), literally(gon),
-                     literally(nl), nsteps, ctl, nodes, zones, cells, joints, bearings, bodies, mon, hist, work, scratch)
-
-
-LITERALS = 6        # the leading arguments that are literals
-
-
-def specialised(args):
-    """The compiled specialisation of ``run_chunk_entry`` for the literal law
-    ids, flags and lanes (and the argument types) of ``args``, its
-    arguments, as a function that calls it directly.  Called through
-    ``run_chunk_entry``, numba resolves the literals anew at every call
-    (about 5 ms: 0.2 s of a study run's 40 chunks); the specialisation
-    found once runs at once.  Falls back to ``run_chunk_entry`` if none
-    matches."""
-    run_chunk_entry(*args[:LITERALS], 0, *args[LITERALS + 1:])  # compiled (or loaded from the cache) for these literals
-    literals = tuple(int(x) for x in args[:LITERALS])
-    types = tuple(typeof(x) for x in args[LITERALS:])
-    for sig, cres in run_chunk_entry.overloads.items():
-        if tuple(getattr(t, "literal_value", None) for t in sig[:LITERALS]) == literals and tuple(sig[LITERALS:]) == types:
-            return cres.entry_point
-    return run_chunk_entry
+    The function returns (status, steps done); status ST_NONFINITE stops
+    every lane after the first step at which a lane's kinetic energy or
+    force ratio is not finite (the caller tells which from the history).
+    ``nl``: the lanes, 1 or a multiple of 8."""
+    sig = tuple(types.literal(int(x)) for x in args[:LITERALS]) + tuple(_argument_type(x) for x in args[LITERALS:])
+    kernel = _one_lane if sig[5].literal_value == 1 else _lanes
+    kernel.compile(sig)
+    return kernel.overloads[sig].entry_point

@@ -13,6 +13,9 @@ from .linalg import eig_sym3
 from .static import choose
 
 _INLINE = dict(cache=True, inline="always", error_model="numpy")
+# a zone law's kernel is a function of its own, compiled (and cached) once
+# and shared by every step kernel that uses the law (joints.py)
+_CALL = dict(cache=True, error_model="numpy")
 
 
 @njit(**_INLINE)
@@ -201,7 +204,7 @@ def _zone_forces(plastic):
     """The zone kernel of an elastic (``plastic`` False) or elasto-plastic
     zone law: ``plastic`` is a constant of the compiled function, so an
     elastic model carries no yield check at all."""
-    @njit(**_INLINE)
+    @njit(**_CALL)
     def zone_forces_(dt, nodes, zones, scratch):
         """Adds the zones' nodal forces to ``nodes.f``.
 
