@@ -159,7 +159,7 @@ def test_cantilever_of_blocks():
     sub-contacts integrate the joint's second moment by the trapezoid rule
     (12.5 % too stiff with 4 cells through the depth), so the solver
     converges to the formula from below.  Measured on 4x1x2, 8x2x4 and
-    16x4x8 cells per block: 0.696, 0.896, 0.969 of the formula.  Asserted:
+    16x4x8 cells per block: 0.765, 0.919, 0.975 of the formula.  Asserted:
     the error falls at every refinement with an observed order above 1, and
     the Richardson extrapolation of the three meshes (with the observed
     order) agrees with the formula within 3 %."""

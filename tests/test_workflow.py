@@ -542,13 +542,19 @@ def test_an_interrupted_run_resumes_with_what_is_missing(smoke, tmp_path):
     p.wait(timeout=300)
     text = log.read_text()
     batches = set(re.findall(r"^(simulate_\d+) +1$", text, re.M))
-    done = set(re.findall(r"Finished jobid: \d+ \(Rule: (simulate_\d+)\)", text))
-    assert len(batches) == 4 and 1 <= len(done) < 4, text[-3000:]
+    logged = set(re.findall(r"Finished jobid: \d+ \(Rule: (simulate_\d+)\)", text))
+    assert len(batches) == 4 and 1 <= len(logged) < 4, text[-3000:]
     kept = {p: p.stat().st_mtime_ns for p in root.glob("study/runs/*/sigma_v*/s*/*.json")}
     r = subprocess.run(cmd + ["-n"], capture_output=True, text=True)
-    assert set(re.findall(r"^(simulate_\d+) +1$", r.stdout, re.M)) == batches - done, r.stdout[-2000:]
+    # a batch that finished is not planned again; one that ended its runs
+    # as the Ctrl-C came may be in either set (its outputs whole, Snakemake
+    # interrupted before it logged the batch finished), and is judged below
+    # by its runs: kept whole or written again
+    done = batches - set(re.findall(r"^(simulate_\d+) +1$", r.stdout, re.M))
+    assert logged <= done and len(done) < 4, (logged, r.stdout[-2000:])
     assert subprocess.run(cmd, capture_output=True).returncode == 0
-    # the finished batches' runs untouched, the others written again
+    # the finished batches' runs untouched (8 runs, a result and a curve
+    # each), the others written again
     written = [p for p, t in kept.items() if p.stat().st_mtime_ns != t]
     assert len(kept) - len(written) == 16 * len(done), (len(kept), len(written), done)
     runs = pd.read_parquet(root / "study" / "runs.parquet").set_index(["variant", "sigma_v_mpa", "sample"])

@@ -1,3 +1,4 @@
+import functools
 import shlex
 import sys
 import os
@@ -65,9 +66,13 @@ def get_template(name):
     return f"workflow/report/{name}.rst"
 
 
+@functools.cache
 def get_solver_hash():
     """Hash of the solver's source: a param of every simulation rule, so that
-    a change to src/ reruns the simulations (Snakemake does not track it)."""
+    a change to src/ reruns the simulations (Snakemake does not track it).
+    Read once a workflow: a rule of each batch takes it (a study in runs of
+    one has thousands), and the sources do not change while Snakemake
+    plans."""
     return source_hash()
 
 
