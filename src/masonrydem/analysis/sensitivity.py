@@ -143,17 +143,24 @@ def posterior_draws(gp, w_at, draws=DRAWS, seed=0, features=FEATURES, chunk=4096
     draw by random Fourier features (the Matern kernel's spectral density:
     a Student t with 2 nu degrees of freedom over the length scales)
     conditioned on the runs by Matheron's rule; the mean is the same rule
-    with the prior draw and the noise 0."""
+    with the prior draw and the noise 0.
+
+    The features' cosines and their sum over the features, most of the
+    indices' time, are in single precision (the phases in double): on the
+    study's groups a draw moves by at most 6e-5 of the draws' standard
+    deviation, the mean not at all (its prior part is zero), and the
+    study's interval ends by at most one in their fourth digit."""
     k = gp.kernel_
     amp, ls, nu, noise = k.k1.k1.constant_value, k.k1.k2.length_scale, k.k1.k2.nu, k.k2.noise_level
     rng = np.random.default_rng(seed)
     freq = (rng.standard_normal((features, w_at.shape[1])) / ls
             * np.sqrt(2 * nu / rng.chisquare(2 * nu, (features, 1))))
     phase = rng.uniform(0, 2 * np.pi, features)
-    theta = np.column_stack([np.zeros(features), rng.standard_normal((features, draws))])
+    theta = np.column_stack([np.zeros(features), rng.standard_normal((features, draws))]).astype(np.float32)
 
     def prior(z):
-        return np.sqrt(2 * amp / features) * np.cos(z @ freq.T + phase) @ theta
+        cosines = np.cos((z @ freq.T + phase).astype(np.float32))
+        return np.sqrt(2 * amp / features) * (cosines @ theta).astype(float)
 
     x = gp.X_train_
     eps = np.sqrt(noise) * np.column_stack([np.zeros(len(x)), rng.standard_normal((len(x), draws))])
